@@ -1,0 +1,55 @@
+# rgbd_lane_detector: set-up, build, test and demo from a clean Debian 12 checkout.
+#   make demo   - install deps, build, run the detector graph on generated synthetic data
+#   make test   - install deps, build, run every gtest/rostest, catkin_lint, roslaunch-check
+# Other targets: build, bench, eval, test-sanitize, format, clean.
+
+SHELL := /bin/bash
+.ONESHELL:
+.SHELLFLAGS := -eo pipefail -c
+
+ROOT      := $(CURDIR)
+BUILD     := $(ROOT)/build
+WS        := $(BUILD)/ws
+PKG       := rgbd_lane_detector
+JOBS      ?= $(shell nproc)
+# catkin, rostest and pluginlib need Debian's python3 (not a pyenv/venv one first on PATH)
+export PATH := /usr/bin:/bin:$(PATH)
+export PYTHONNOUSERSITE := 1
+export ROS_HOME ?= $(BUILD)/ros_home
+CMAKE_ARGS := -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
+SETUP := source $(WS)/devel/setup.bash
+
+.PHONY: all deps workspace build test demo bench eval test-sanitize format clean
+
+all: build
+
+deps:
+	@$(ROOT)/scripts/install_deps.sh
+
+workspace:
+	@mkdir -p $(WS)/src $(ROS_HOME)
+	@if [ ! -e $(WS)/src/$(PKG) ]; then ln -s $(ROOT) $(WS)/src/$(PKG); fi
+
+build: deps workspace
+	@cd $(WS) && { catkin_make -j$(JOBS) $(CMAKE_ARGS) > $(BUILD)/catkin_make.log 2>&1 || { tail -n 60 $(BUILD)/catkin_make.log; exit 1; }; } && grep -E "warning:" $(BUILD)/catkin_make.log | grep -v "^/usr" | head -20; echo "build: ok (log: build/catkin_make.log)"
+
+test: build
+	@$(ROOT)/scripts/run_tests.sh $(WS)
+
+demo: build
+	@$(SETUP) && $(ROOT)/scripts/demo.sh
+
+bench: build
+	@$(SETUP) && $(ROOT)/scripts/bench.sh
+
+eval: build
+	@$(SETUP) && $(ROOT)/scripts/evaluate.sh
+
+test-sanitize: deps
+	@$(ROOT)/scripts/test_sanitize.sh
+
+format:
+	@clang-format -i $$(git ls-files '*.cpp' '*.h')
+
+clean:
+	rm -rf $(BUILD)

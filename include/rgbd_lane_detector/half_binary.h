@@ -1,0 +1,32 @@
+/**
+ * @file half_binary.h
+ * @brief Stage 1: colour to 8-bit grey, then THRESH_TOZERO at tau_c (METHOD.md section 1).
+ */
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/**
+ * @brief Half-binary grey image: grey < tau_c becomes 0, the rest keep their grey value.
+ *
+ * Grey uses OpenCV's fixed-point BT.601 weights, so it equals cv::cvtColor + cv::threshold
+ * (THRESH_TOZERO at tau_c - 1) exactly.
+ * @param[in] colour CV_8UC1/3/4 image laid out as @p format says.
+ * @param[in] format channel order of @p colour.
+ * @param[in] tau_c threshold on 0-255 grey.
+ * @param[in] rows rows to convert; the other rows of @p out are left untouched.
+ * @param[out] out CV_8UC1 of the colour size (allocated only when its size or type differs).
+ */
+void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
+                cv::Mat& out);
+
+/// Grey value of one pixel with the weights halfBinary() uses.
+inline int greyValue(int r, int g, int b) {
+  return (r * 4899 + g * 9617 + b * 1868 + (1 << 13)) >> 14;
+}
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,92 @@
+/**
+ * @file params.h
+ * @brief Every tunable value of the detector, with the paper's values as defaults.
+ *
+ * Field names are the dynamic_reconfigure parameter names of cfg/LaneDetector.cfg.
+ * The ROS-free core reads nothing else.
+ */
+#pragma once
+
+#include <string>
+
+namespace rgbd_lane_detector {
+
+/// Depth term of the geometric map G (METHOD.md section 2, Eq. 2).
+enum class DepthTerm : int {
+  kNearHigh = 0,  ///< (T_D - D) / T_D: the authors' code; near rows score higher, like v/H.
+  kFarHigh = 1,   ///< D / T_D: as printed in the paper.
+};
+
+/// How the lane plane is computed from the traced markers (METHOD.md section 4).
+enum class PlaneFit : int {
+  kThreePoint = 0,    ///< Paper: plane through the best left match, best right match, furthest right.
+  kLeastSquares = 1,  ///< Robust (trimmed) least squares over every traced marker point.
+};
+
+/**
+ * @brief Detector configuration. Defaults reproduce the paper (Quach et al.) and the
+ * authors' runs; the "improvement" block defaults to off (paper-faithful mode).
+ */
+struct Params {
+  // --- Pre-processing -------------------------------------------------------
+  int tau_c = 100;                ///< half-binary threshold on 0-255 grey (THRESH_TOZERO)
+  double processing_scale = 1.0;  ///< input is resampled (nearest) by this factor before matching
+  double roi_top = 0.41;          ///< first searched row as a fraction of the height (156/380)
+  double roi_bottom = 1.0;        ///< one past the last searched row, fraction of the height
+  double min_depth = 0.2;         ///< depth below this (m) is invalid
+  double max_depth = 120.0;       ///< depth above this (m) is invalid ("huge" depth)
+  int normal_window = 5;          ///< FALS window side: 3, 5 or 7
+
+  // --- Response map ---------------------------------------------------------
+  int template_size = 32;           ///< square template side (px, at processing scale)
+  int template_line_width = 10;     ///< thickness of the template line (px)
+  double template_angle_deg = 45.0; ///< default template line angle from the horizontal (deg)
+  bool use_depth = true;            ///< false: colour-only ablation (G = 0)
+  double depth_threshold = 20.0;    ///< T_D (m)
+  double alpha = 0.4;               ///< weight of |n . O_y| in G
+  double beta = 0.1;                ///< weight of the depth / row term in G
+  DepthTerm depth_term = DepthTerm::kNearHigh;
+  double tau_g = 0.5;               ///< G is added where M >= tau_g
+  double up_x = 0.0;                ///< road "up" axis O_y in the camera optical frame
+  double up_y = -1.0;
+  double up_z = 0.0;
+
+  // --- Template enhancement and tracing -------------------------------------
+  double pca_threshold = 0.75;   ///< P_PCA: region growing threshold on R, and the adapt condition
+  bool adapt_templates = true;   ///< redraw templates at the PCA angle for the next frame
+  int jump_step = 5;             ///< r: sliding box step along theta (px)
+  double trace_threshold = 0.75; ///< R above this counts as marker inside the sliding box
+  int max_trace_steps = 400;     ///< safety bound on sliding-box steps per direction
+  int min_marker_points = 5;     ///< fewer traced points: the side is not reported
+
+  // --- Lane plane -----------------------------------------------------------
+  PlaneFit plane_fit = PlaneFit::kThreePoint;
+  double plane_max_tilt_deg = 90.0;  ///< reject planes tilted more than this from O_y (90: off)
+
+  // --- Improvements over the paper (named options; all off = paper-faithful) --
+  int gap_steps = 0;              ///< sliding box may cross this many empty boxes (dashed lines)
+  bool ego_lane_seeds = false;    ///< left seed left of the principal point, right seed right of it
+  bool road_gate = false;         ///< keep only matches whose normal is road-like (|n.O_y| >= road_gate_cos)
+  double road_gate_cos = 0.9;     ///< cosine threshold of road_gate
+  double plane_gate = 0.0;        ///< >0: drop marker points farther than this (m) from the previous plane
+  int fill_depth_holes = 0;       ///< >0: fill invalid depth from valid neighbours along rows up to this many px
+  double plane_smoothing = 0.0;   ///< temporal filter weight of the previous plane in [0, 1)
+
+  /// Paper-faithful configuration (the defaults).
+  static Params paper() { return Params(); }
+  /// The package's recommended configuration: paper plus the improvements that measured better.
+  static Params improved();
+};
+
+/**
+ * @brief Clamp and repair a parameter set (odd windows, ranges, ordering), like
+ * stereo_image_proc does for its block sizes.
+ * @param[in] in parameters as given by a user.
+ * @return a valid parameter set; fields already valid are returned unchanged.
+ */
+Params sanitize(const Params& in);
+
+/// True when two parameter sets give the same matching templates (sizes and default angle).
+bool sameTemplates(const Params& a, const Params& b);
+
+}  // namespace rgbd_lane_detector

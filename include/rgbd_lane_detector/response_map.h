@@ -1,0 +1,54 @@
+/**
+ * @file response_map.h
+ * @brief Stage 5: geometric map G (Eq. 2) and fused response R (Eq. 3).
+ */
+#pragma once
+
+#include <cmath>
+
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/params.h"
+
+namespace rgbd_lane_detector {
+
+/**
+ * @brief G at one pixel (Eq. 2 with METHOD.md's resolutions).
+ * @param[in] depth z in metres, NaN when unknown.
+ * @param[in] n_dot_up n . O_y of the unit normal, NaN when the normal is unknown (counts 0).
+ * @param[in] row image row v; @p height the image height (row term v / height).
+ * @param[in] p alpha, beta, depth_threshold (T_D) and depth_term are read.
+ */
+inline float geometricValue(float depth, float n_dot_up, int row, int height, const Params& p) {
+  const double normal_term = std::isfinite(n_dot_up) ? std::fabs(n_dot_up) : 0.0;
+  double second;
+  if (std::isfinite(depth) && depth <= p.depth_threshold) {
+    second = p.depth_term == DepthTerm::kNearHigh ? (p.depth_threshold - depth) / p.depth_threshold
+                                                  : depth / p.depth_threshold;
+  } else {
+    second = static_cast<double>(row) / height;
+  }
+  return static_cast<float>(p.alpha * normal_term + p.beta * second);
+}
+
+/// R at one pixel (Eq. 3): M below tau_G, M + G otherwise.
+inline float fusedValue(float m, float g, float tau_g) { return m < tau_g ? m : m + g; }
+
+/**
+ * @brief Geometric map G over some rows.
+ * @param[in] points CV_32FC3 organised points (z = depth, NaN invalid).
+ * @param[in] normals CV_32FC3 unit normals (NaN unknown).
+ * @param[in] p parameters (alpha, beta, T_D, depth term, up axis).
+ * @param[in] rows rows to compute; other rows of @p G are set to 0 when G is (re)allocated.
+ * @param[out] G CV_32FC1.
+ */
+void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p,
+                  const cv::Range& rows, cv::Mat& G);
+
+/**
+ * @brief Fused response R = M (M < tau_g) or M + G, over some rows. @p R may alias @p M.
+ */
+void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
+                  cv::Mat& R);
+
+}  // namespace rgbd_lane_detector

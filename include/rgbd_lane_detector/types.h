@@ -1,0 +1,114 @@
+/**
+ * @file types.h
+ * @brief Plain input and output types of the ROS-free detector core.
+ */
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+namespace rgbd_lane_detector {
+
+/// Pinhole intrinsics of the (rectified) colour camera, in pixels.
+struct Intrinsics {
+  double fx = 0.0;
+  double fy = 0.0;
+  double cx = 0.0;
+  double cy = 0.0;
+  /// Finite, positive focal lengths and finite principal point.
+  bool valid() const;
+};
+
+/// Channel layout of the colour image (the ROS encodings the core reads in place).
+enum class PixelFormat { kBgr8, kRgb8, kBgra8, kRgba8, kMono8 };
+
+/**
+ * @brief One RGB-D frame. The core only reads the images (no copy when the
+ * processing scale is 1); they must stay alive during detect().
+ */
+struct Frame {
+  cv::Mat colour;                       ///< CV_8UC3 (bgr8/rgb8), CV_8UC4 (bgra8/rgba8) or CV_8UC1
+  PixelFormat format = PixelFormat::kBgr8;
+  cv::Mat depth;                        ///< CV_16UC1 (depth_scale metres per unit) or CV_32FC1 metres
+  double depth_scale = 0.001;           ///< metres per unit of a CV_16UC1 depth image
+  Intrinsics intrinsics;                ///< of the colour camera; depth is registered to it
+};
+
+/// Outcome of LaneDetector::detect(). Anything but kOk means the frame was not processed.
+enum class Status {
+  kOk = 0,
+  kEmptyImage,            ///< colour or depth has no pixels
+  kSizeMismatch,          ///< colour and depth differ in size
+  kUnsupportedColour,     ///< colour type does not match the pixel format or is not 8-bit
+  kUnsupportedDepth,      ///< depth is neither CV_16UC1 nor CV_32FC1, or the 16-bit scale is not > 0
+  kInvalidIntrinsics,     ///< zero, negative or non-finite focal length / principal point
+  kImageTooSmall,         ///< the searched region is smaller than the template
+};
+
+/// A static, human-readable description of a status (never allocates).
+const char* statusMessage(Status status);
+
+/// Lane plane n . p + d = 0 in the camera optical frame, n pointing toward the camera.
+struct PlaneEstimate {
+  bool valid = false;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double distance = 0.0;                       ///< d; the camera height above the road when valid
+  std::vector<Eigen::Vector3f> support;        ///< points the plane was fitted to
+  double rms = 0.0;                            ///< RMS distance of the support points (m)
+  int fit_method = 0;                          ///< PlaneFit value used
+};
+
+/// One traced lane marker (left or right side).
+struct MarkerTrace {
+  bool found = false;                 ///< enough traced points (Params::min_marker_points)
+  float peak_score = 0.0f;            ///< R at the seed (best match)
+  cv::Point2f seed{-1.f, -1.f};       ///< best match, input-image pixel coordinates
+  Eigen::Vector3f seed_point{0.f, 0.f, 0.f};  ///< 3D point of the best match (NaN: no depth)
+  double angle = 0.0;                 ///< image angle (rad) from PCA, atan2(dv, du), dv > 0
+  bool angle_valid = false;           ///< PCA found enough pixels above P_PCA
+  std::vector<cv::Point2f> pixels;    ///< box centroids, input-image pixels, ordered near to far
+  std::vector<float> scores;          ///< R at each centroid
+  std::vector<Eigen::Vector3f> points;///< 3D centroids (optical frame, m); NaN where no depth
+  int num_valid_points = 0;           ///< points with finite coordinates
+};
+
+/// Wall-clock time of each stage of the last detect() call, milliseconds.
+struct StageTimings {
+  double preprocess = 0.0;   ///< resampling and half-binary image
+  double points = 0.0;       ///< depth to organised 3D points
+  double normals = 0.0;      ///< FALS normals
+  double matching = 0.0;     ///< NCC with both templates
+  double response = 0.0;     ///< G and the fused R maps
+  double pca = 0.0;          ///< template angle refinement
+  double tracing = 0.0;      ///< sliding-box tracing of both markers
+  double plane = 0.0;        ///< lane plane fit
+  double total = 0.0;
+};
+
+/**
+ * @brief Everything one detect() call produces. Reuse one Result across frames:
+ * its vectors keep their capacity, so steady-state detection does not allocate.
+ * The cv::Mat members are headers onto the detector's internal buffers at the
+ * processing resolution (0 outside the searched rows); they stay valid until
+ * the next detect() or reset() call on the same detector.
+ */
+struct Result {
+  Status status = Status::kOk;
+  cv::Mat response_left;    ///< R of the left ("/") template, CV_32FC1
+  cv::Mat response_right;   ///< R of the right ("\") template, CV_32FC1
+  cv::Mat geometric;        ///< G, CV_32FC1
+  cv::Mat half_binary;      ///< half-binary grey image, CV_8UC1
+  cv::Rect roi;             ///< searched rows at the processing resolution
+  double scale = 1.0;       ///< processing resolution / input resolution
+  MarkerTrace left;
+  MarkerTrace right;
+  PlaneEstimate plane;
+  double template_angle_left = 0.0;   ///< template angle (rad) used for this frame
+  double template_angle_right = 0.0;
+  StageTimings timings;
+};
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Install the Debian packages rgbd_lane_detector needs to build, test and demo.
+# Idempotent: only missing packages are installed, so a second run is quick and silent.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake git
+  catkin catkin-lint ros-base-dev python3-catkin-pkg
+  libnodeletlib-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libimage-transport-dev image-transport-tools libcv-bridge-dev python3-cv-bridge
+  libmessage-filters-dev libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev python3-tf2-ros
+  libdiagnostic-updater-dev libcamera-calibration-parsers-dev libvisualization-msgs-dev
+  librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-sensor-msgs
+  libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev
+  python3-opencv python3-numpy python3-matplotlib
+  rviz xvfb xauth
+)
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$pkg")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+    echo "install_deps: need root (or sudo) to install: ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+echo "install_deps: installing ${#missing[@]} package(s): ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q "${missing[@]}"

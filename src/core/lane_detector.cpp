@@ -1,0 +1,431 @@
+#include "rgbd_lane_detector/lane_detector.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "rgbd_lane_detector/depth_points.h"
+#include "rgbd_lane_detector/half_binary.h"
+#include "rgbd_lane_detector/lane_plane.h"
+#include "rgbd_lane_detector/pca_refinement.h"
+#include "rgbd_lane_detector/response_map.h"
+#include "rgbd_lane_detector/sliding_box.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point& t) {
+  const Clock::time_point now = Clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
+  t = now;
+  return ms;
+}
+
+int colourChannels(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::kBgr8:
+    case PixelFormat::kRgb8:
+      return 3;
+    case PixelFormat::kBgra8:
+    case PixelFormat::kRgba8:
+      return 4;
+    case PixelFormat::kMono8:
+      return 1;
+  }
+  return 0;
+}
+
+// Resample rows/columns through index maps (nearest neighbour), no allocation when sized.
+template <typename T>
+void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row_map, int elem,
+                  cv::Mat& dst) {
+  const int* cm = col_map.ptr<int>();
+  const int* rm = row_map.ptr<int>();
+  for (int y = 0; y < dst.rows; ++y) {
+    const T* s = src.ptr<T>(rm[y]);
+    T* d = dst.ptr<T>(y);
+    for (int x = 0; x < dst.cols; ++x)
+      for (int c = 0; c < elem; ++c) d[x * elem + c] = s[cm[x] * elem + c];
+  }
+}
+
+// Keep a template angle inside the half-plane of its side, away from horizontal/vertical.
+double clampAngle(double angle, bool left) {
+  const double lo = 10.0 * M_PI / 180.0, hi = 88.0 * M_PI / 180.0;
+  double from_h = left ? M_PI - angle : angle;  // angle from the horizontal
+  from_h = std::min(std::max(from_h, lo), hi);
+  return left ? M_PI - from_h : from_h;
+}
+
+}  // namespace
+
+LaneDetector::LaneDetector(const Params& params) { setParams(params); }
+
+void LaneDetector::setParams(const Params& params) {
+  const Params p = sanitize(params);
+  if (!sameTemplates(p, params_) || left_template_.size == 0) templates_dirty_ = true;
+  params_ = p;
+  if (templates_dirty_) reset();
+}
+
+void LaneDetector::reset() {
+  next_left_angle_ = defaultLeftAngle(params_.template_angle_deg);
+  next_right_angle_ = defaultRightAngle(params_.template_angle_deg);
+  previous_plane_.valid = false;
+  templates_dirty_ = true;
+}
+
+Status LaneDetector::validate(const Frame& frame) const {
+  if (frame.colour.empty() || frame.depth.empty()) return Status::kEmptyImage;
+  if (frame.colour.size() != frame.depth.size()) return Status::kSizeMismatch;
+  if (frame.colour.depth() != CV_8U || frame.colour.channels() != colourChannels(frame.format))
+    return Status::kUnsupportedColour;
+  if (frame.depth.type() == CV_16UC1) {
+    if (!(frame.depth_scale > 0.0) || !std::isfinite(frame.depth_scale))
+      return Status::kUnsupportedDepth;
+  } else if (frame.depth.type() != CV_32FC1) {
+    return Status::kUnsupportedDepth;
+  }
+  if (!frame.intrinsics.valid()) return Status::kInvalidIntrinsics;
+  // searched region at the processing scale must hold a template
+  const double s = params_.processing_scale;
+  const int pw = std::max(1, static_cast<int>(std::lround(frame.colour.cols * s)));
+  const int ph = std::max(1, static_cast<int>(std::lround(frame.colour.rows * s)));
+  const int top = static_cast<int>(std::lround(params_.roi_top * ph));
+  const int bottom = static_cast<int>(std::lround(params_.roi_bottom * ph));
+  if (pw < params_.template_size || bottom - top < params_.template_size)
+    return Status::kImageTooSmall;
+  return Status::kOk;
+}
+
+void LaneDetector::prepareGeometry(const Frame& frame) {
+  const double s = params_.processing_scale;
+  const cv::Size in = frame.colour.size();
+  const cv::Size proc(std::max(1, static_cast<int>(std::lround(in.width * s))),
+                      std::max(1, static_cast<int>(std::lround(in.height * s))));
+  if (in != input_size_ || proc != proc_size_ || s != scale_) {
+    input_size_ = in;
+    proc_size_ = proc;
+    scale_ = s;
+    if (proc == in) {
+      col_map_.release();
+      row_map_.release();
+    } else {
+      col_map_.create(1, proc.width, CV_32SC1);
+      row_map_.create(1, proc.height, CV_32SC1);
+      for (int x = 0; x < proc.width; ++x)
+        col_map_.at<int>(x) = std::min(in.width - 1, static_cast<int>((x + 0.5) * in.width / proc.width));
+      for (int y = 0; y < proc.height; ++y)
+        row_map_.at<int>(y) =
+            std::min(in.height - 1, static_cast<int>((y + 0.5) * in.height / proc.height));
+    }
+    // buffers change size: start from zeroed maps (rows outside the ROI stay 0)
+    geometric_.release();
+    response_left_.release();
+    response_right_.release();
+  }
+  const int top = static_cast<int>(std::lround(params_.roi_top * proc.height));
+  const int bottom = static_cast<int>(std::lround(params_.roi_bottom * proc.height));
+  const cv::Rect roi(0, top, proc.width, bottom - top);
+  if (roi != roi_) {
+    roi_ = roi;
+    geometric_.release();
+  }
+  proc_K_ = frame.intrinsics;
+}
+
+void LaneDetector::resampleColour(const Frame& frame) {
+  if (col_map_.empty()) return;
+  colour_small_.create(proc_size_, frame.colour.type());
+  remapNearest<uint8_t>(frame.colour, col_map_, row_map_, frame.colour.channels(), colour_small_);
+}
+
+Status LaneDetector::detect(const Frame& frame, Result& result) {
+  const Clock::time_point start = Clock::now();
+  Clock::time_point t = start;
+  result.timings = StageTimings();
+  result.left.found = result.right.found = false;
+  result.left.pixels.clear();
+  result.right.pixels.clear();
+  result.left.points.clear();
+  result.right.points.clear();
+  result.left.scores.clear();
+  result.right.scores.clear();
+  result.plane.valid = false;
+  result.plane.support.clear();
+  result.status = validate(frame);
+  if (result.status != Status::kOk) return result.status;
+
+  const Params& p = params_;
+  prepareGeometry(frame);
+  if (templates_dirty_) {
+    makeLineTemplate(p.template_size, p.template_line_width, next_left_angle_, left_template_);
+    makeLineTemplate(p.template_size, p.template_line_width, next_right_angle_, right_template_);
+    templates_dirty_ = false;
+  }
+
+  // 1. pre-processing
+  resampleColour(frame);
+  const cv::Mat& colour = col_map_.empty() ? frame.colour : colour_small_;
+  const cv::Range roi_rows(roi_.y, roi_.y + roi_.height);
+  halfBinary(colour, frame.format, p.tau_c, roi_rows, half_binary_);
+  result.timings.preprocess = msSince(t);
+
+  // 2. organised points (ROI plus the normal window's margin)
+  const int h = p.normal_window / 2;
+  const cv::Range point_rows(std::max(0, roi_.y - h), std::min(proc_size_.height, roi_.y + roi_.height + h));
+  DepthDecoder decoder;
+  decoder.scale = frame.depth_scale;
+  decoder.min_depth = p.min_depth;
+  decoder.max_depth = p.max_depth;
+  // read through the maps: exact back-projection of each sampled source pixel
+  depthToPoints(frame.depth, decoder, proc_K_, point_rows, points_, col_map_, row_map_);
+  if (p.fill_depth_holes > 0) fillDepthHoles(points_, point_rows, p.fill_depth_holes);
+  result.timings.points = msSince(t);
+
+  // 3. normals
+  if (p.use_depth) {
+    fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
+    fals_.compute(points_, roi_rows, normals_);
+  }
+  result.timings.normals = msSince(t);
+
+  // 4. matching
+  matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
+                 response_right_);
+  result.timings.matching = msSince(t);
+
+  // 5. G and R
+  if (p.use_depth) {
+    geometricMap(points_, normals_, p, roi_rows, geometric_);
+    if (p.road_gate) applyRoadGate(roi_rows);
+    fuseResponse(response_left_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_left_);
+    fuseResponse(response_right_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_right_);
+  } else if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
+    geometric_.create(proc_size_, CV_32FC1);
+    geometric_.setTo(0);
+  } else {
+    geometric_(roi_).setTo(0);
+  }
+  result.timings.response = msSince(t);
+
+  // 6. seeds and PCA angles
+  cv::Point seed_l, seed_r;
+  float peak_l = 0.f, peak_r = 0.f;
+  findSeed(response_left_, true, seed_l, peak_l);
+  findSeed(response_right_, false, seed_r, peak_r);
+  const float pca_t = static_cast<float>(p.pca_threshold);
+  const PcaAngle pca_l =
+      pcaMarkerAngle(response_left_, seed_l, pca_t, p.template_size, pca_stack_, pca_visited_);
+  const PcaAngle pca_r =
+      pcaMarkerAngle(response_right_, seed_r, pca_t, p.template_size, pca_stack_, pca_visited_);
+  result.left.angle_valid = pca_l.valid;
+  result.right.angle_valid = pca_r.valid;
+  result.left.angle = pca_l.valid ? clampAngle(pca_l.angle, true) : left_template_.angle;
+  result.right.angle = pca_r.valid ? clampAngle(pca_r.angle, false) : right_template_.angle;
+  result.timings.pca = msSince(t);
+
+  // 7. tracing
+  buildTrace(response_left_, seed_l, peak_l, result.left.angle, result.left);
+  buildTrace(response_right_, seed_r, peak_r, result.right.angle, result.right);
+  result.timings.tracing = msSince(t);
+
+  // 8. plane
+  fitPlane(result);
+  result.timings.plane = msSince(t);
+
+  // outputs and carried state
+  result.template_angle_left = left_template_.angle;
+  result.template_angle_right = right_template_.angle;
+  result.response_left = response_left_;
+  result.response_right = response_right_;
+  result.geometric = geometric_;
+  result.half_binary = half_binary_;
+  result.roi = roi_;
+  result.scale = static_cast<double>(proc_size_.width) / input_size_.width;
+  updateTemplates(result);
+  result.timings.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  return Status::kOk;
+}
+
+void LaneDetector::applyRoadGate(const cv::Range& rows) {
+  // Where the surface normal is known and not road-like, the match cannot be a road marking:
+  // its responses are removed from both maps (a named option, off in the paper mode).
+  const float ux = static_cast<float>(params_.up_x), uy = static_cast<float>(params_.up_y),
+              uz = static_cast<float>(params_.up_z);
+  const float min_cos = static_cast<float>(params_.road_gate_cos);
+  for (int y = rows.start; y < rows.end; ++y) {
+    const float* n = normals_.ptr<float>(y);
+    float* ml = response_left_.ptr<float>(y);
+    float* mr = response_right_.ptr<float>(y);
+    for (int x = 0; x < proc_size_.width; ++x, n += 3) {
+      if (std::isnan(n[0])) continue;
+      if (std::fabs(n[0] * ux + n[1] * uy + n[2] * uz) < min_cos) ml[x] = mr[x] = 0.f;
+    }
+  }
+}
+
+void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value) const {
+  cv::Rect area = roi_;
+  if (params_.ego_lane_seeds) {
+    // the ego lane's left marker lies left of the principal point's column, the right one right
+    const int cx = static_cast<int>(std::lround(proc_K_.cx * proc_size_.width / input_size_.width));
+    const int split = std::min(std::max(cx, 1), proc_size_.width - 1);
+    area = left ? cv::Rect(0, roi_.y, split, roi_.height)
+                : cv::Rect(split, roi_.y, proc_size_.width - split, roi_.height);
+  }
+  double max_v = 0.0;
+  cv::Point max_p(-1, -1);
+  cv::minMaxLoc(R(area), nullptr, &max_v, nullptr, &max_p);
+  peak = max_p + area.tl();
+  value = static_cast<float>(max_v);
+}
+
+void LaneDetector::buildTrace(const cv::Mat& R, const cv::Point& peak, float peak_value,
+                              double angle, MarkerTrace& trace) {
+  trace.peak_score = peak_value;
+  const double inv_s = static_cast<double>(input_size_.width) / proc_size_.width;
+  const double inv_sy = static_cast<double>(input_size_.height) / proc_size_.height;
+  trace.seed = cv::Point2f(static_cast<float>((peak.x + 0.5) * inv_s - 0.5),
+                           static_cast<float>((peak.y + 0.5) * inv_sy - 0.5));
+  trace.angle = angle;
+  trace.num_valid_points = 0;
+  trace.seed_point = pointAt(cv::Point2f(static_cast<float>(peak.x), static_cast<float>(peak.y)));
+  if (!(peak_value > params_.trace_threshold)) return;
+
+  TraceParams tp;
+  tp.box_size = params_.template_size;
+  tp.jump = params_.jump_step;
+  tp.threshold = static_cast<float>(params_.trace_threshold);
+  tp.max_steps = params_.max_trace_steps;
+  tp.gap_steps = params_.gap_steps;
+  traceMarker(R, cv::Point2f(static_cast<float>(peak.x), static_cast<float>(peak.y)), angle, tp,
+              roi_, trace_pixels_, trace_scores_);
+  for (size_t i = 0; i < trace_pixels_.size(); ++i) {
+    const cv::Point2f& c = trace_pixels_[i];
+    trace.pixels.emplace_back(static_cast<float>((c.x + 0.5) * inv_s - 0.5),
+                              static_cast<float>((c.y + 0.5) * inv_sy - 0.5));
+    trace.scores.push_back(trace_scores_[i]);
+    const Eigen::Vector3f pt = pointAt(c);
+    trace.points.push_back(pt);
+    if (!std::isnan(pt.z())) ++trace.num_valid_points;
+  }
+}
+
+Eigen::Vector3f LaneDetector::pointAt(const cv::Point2f& c) const {
+  // The centroid's own point, else the depth of the nearest valid pixel in its box on the
+  // centroid's ray (never a zero depth).
+  const int cx = std::min(std::max(static_cast<int>(std::lround(c.x)), 0), proc_size_.width - 1);
+  const int cy = std::min(std::max(static_cast<int>(std::lround(c.y)), 0), proc_size_.height - 1);
+  const cv::Vec3f& p = points_.at<cv::Vec3f>(cy, cx);
+  if (!std::isnan(p[2])) return Eigen::Vector3f(p[0], p[1], p[2]);
+  // ray through the sampled source pixel, scaled to z = 1
+  const int sx = col_map_.empty() ? cx : col_map_.at<int>(cx);
+  const int sy = row_map_.empty() ? cy : row_map_.at<int>(cy);
+  const float rx = static_cast<float>((sx - proc_K_.cx) / proc_K_.fx);
+  const float ry = static_cast<float>((sy - proc_K_.cy) / proc_K_.fy);
+  const int half = params_.template_size / 2;
+  for (int r = 1; r <= half; ++r) {
+    for (int dy = -r; dy <= r; ++dy) {
+      const int y = cy + dy;
+      if (y < 0 || y >= proc_size_.height) continue;
+      const int step = (dy == -r || dy == r) ? 1 : 2 * r;
+      for (int dx = -r; dx <= r; dx += step) {
+        const int x = cx + dx;
+        if (x < 0 || x >= proc_size_.width) continue;
+        const cv::Vec3f& q = points_.at<cv::Vec3f>(y, x);
+        if (std::isnan(q[2])) continue;
+        return Eigen::Vector3f(rx * q[2], ry * q[2], q[2]);
+      }
+    }
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  return Eigen::Vector3f(nan, nan, nan);
+}
+
+void LaneDetector::fitPlane(Result& result) {
+  const Params& p = params_;
+  MarkerTrace& L = result.left;
+  MarkerTrace& R = result.right;
+  // plane gate: drop marker points far from the previous plane
+  if (p.plane_gate > 0.0 && previous_plane_.valid) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (MarkerTrace* m : {&L, &R}) {
+      for (auto& q : m->points) {
+        if (!std::isnan(q.z()) && std::fabs(planeDistance(previous_plane_, q)) > p.plane_gate) {
+          q = Eigen::Vector3f(nan, nan, nan);
+          --m->num_valid_points;
+        }
+      }
+    }
+  }
+  L.found = L.num_valid_points >= p.min_marker_points;
+  R.found = R.num_valid_points >= p.min_marker_points;
+  PlaneEstimate& plane = result.plane;
+  plane.valid = false;
+  if (!L.found || !R.found) return;
+
+  if (p.plane_fit == PlaneFit::kThreePoint) {
+    // v_a1: best left match, v_b: best right match, v_a2: furthest right centroid
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const Eigen::Vector3f& a1 = L.seed_point;
+    const Eigen::Vector3f& b = R.seed_point;
+    Eigen::Vector3f a2(nan, nan, nan);
+    for (auto it = R.points.rbegin(); it != R.points.rend(); ++it) {
+      if (!std::isnan(it->z())) {
+        a2 = *it;
+        break;
+      }
+    }
+    planeFromThreePoints(a1, b, a2, plane);
+  } else {
+    fit_points_.clear();
+    for (const auto& q : L.points) fit_points_.push_back(q);
+    for (const auto& q : R.points) fit_points_.push_back(q);
+    fitPlaneLeastSquares(fit_points_, 0.1, 3, plane);
+  }
+  if (!plane.valid) return;
+  // tilt check against the expected up axis
+  const Eigen::Vector3d up(p.up_x, p.up_y, p.up_z);
+  const double cos_tilt = std::fabs(plane.normal.dot(up));
+  if (cos_tilt < std::cos(p.plane_max_tilt_deg * M_PI / 180.0) - 1e-12) {
+    plane.valid = false;
+    return;
+  }
+  if (p.plane_smoothing > 0.0 && previous_plane_.valid) {
+    const double w = p.plane_smoothing;
+    Eigen::Vector3d n = (1.0 - w) * plane.normal + w * previous_plane_.normal;
+    const double len = n.norm();
+    if (len > 1e-9) {
+      plane.normal = n / len;
+      plane.distance = (1.0 - w) * plane.distance + w * previous_plane_.distance;
+    }
+  }
+}
+
+void LaneDetector::updateTemplates(const Result& result) {
+  // Carry the plane for the temporal options.
+  previous_plane_.valid = result.plane.valid;
+  if (result.plane.valid) {
+    previous_plane_.normal = result.plane.normal;
+    previous_plane_.distance = result.plane.distance;
+  }
+  // Both sides matched above P_PCA: redraw the templates at the PCA angles for the next frame;
+  // otherwise return to the default templates.
+  const bool adapt = params_.adapt_templates && result.left.angle_valid &&
+                     result.right.angle_valid &&
+                     result.left.peak_score > params_.pca_threshold &&
+                     result.right.peak_score > params_.pca_threshold;
+  const double nl = adapt ? result.left.angle : defaultLeftAngle(params_.template_angle_deg);
+  const double nr = adapt ? result.right.angle : defaultRightAngle(params_.template_angle_deg);
+  if (nl != left_template_.angle || nr != right_template_.angle) {
+    next_left_angle_ = nl;
+    next_right_angle_ = nr;
+    templates_dirty_ = true;
+  }
+}
+
+}  // namespace rgbd_lane_detector

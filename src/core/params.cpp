@@ -1,0 +1,83 @@
+#include "rgbd_lane_detector/params.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rgbd_lane_detector {
+namespace {
+
+double clampFinite(double v, double lo, double hi, double fallback) {
+  if (!std::isfinite(v)) return fallback;
+  return std::min(std::max(v, lo), hi);
+}
+
+}  // namespace
+
+Params Params::improved() {
+  Params p;
+  p.gap_steps = 12;
+  p.ego_lane_seeds = true;
+  p.road_gate = true;
+  p.plane_fit = PlaneFit::kLeastSquares;
+  p.plane_max_tilt_deg = 30.0;
+  p.fill_depth_holes = 0;
+  return p;
+}
+
+Params sanitize(const Params& in) {
+  const Params d;  // defaults, used for non-finite input
+  Params p = in;
+  p.tau_c = std::min(std::max(p.tau_c, 0), 255);
+  p.processing_scale = clampFinite(p.processing_scale, 0.05, 1.0, d.processing_scale);
+  p.roi_top = clampFinite(p.roi_top, 0.0, 0.95, d.roi_top);
+  p.roi_bottom = clampFinite(p.roi_bottom, 0.05, 1.0, d.roi_bottom);
+  if (p.roi_bottom <= p.roi_top) p.roi_bottom = std::min(1.0, p.roi_top + 0.05);
+  p.min_depth = clampFinite(p.min_depth, 0.0, 1e3, d.min_depth);
+  p.max_depth = clampFinite(p.max_depth, p.min_depth + 1e-3, 1e6, d.max_depth);
+  // FALS window: odd, 3..7
+  p.normal_window = std::min(std::max(p.normal_window, 3), 7);
+  if (p.normal_window % 2 == 0) p.normal_window += 1;
+
+  p.template_size = std::min(std::max(p.template_size, 4), 256);
+  p.template_line_width = std::min(std::max(p.template_line_width, 1), p.template_size);
+  p.template_angle_deg = clampFinite(p.template_angle_deg, 5.0, 85.0, d.template_angle_deg);
+  p.depth_threshold = clampFinite(p.depth_threshold, 1e-3, 1e6, d.depth_threshold);
+  p.alpha = clampFinite(p.alpha, 0.0, 10.0, d.alpha);
+  p.beta = clampFinite(p.beta, 0.0, 10.0, d.beta);
+  if (p.depth_term != DepthTerm::kNearHigh && p.depth_term != DepthTerm::kFarHigh)
+    p.depth_term = d.depth_term;
+  p.tau_g = clampFinite(p.tau_g, 0.0, 1.0, d.tau_g);
+  const double up_norm = std::sqrt(p.up_x * p.up_x + p.up_y * p.up_y + p.up_z * p.up_z);
+  if (!std::isfinite(up_norm) || up_norm < 1e-9) {
+    p.up_x = d.up_x;
+    p.up_y = d.up_y;
+    p.up_z = d.up_z;
+  } else {
+    p.up_x /= up_norm;
+    p.up_y /= up_norm;
+    p.up_z /= up_norm;
+  }
+
+  p.pca_threshold = clampFinite(p.pca_threshold, 0.0, 10.0, d.pca_threshold);
+  p.jump_step = std::min(std::max(p.jump_step, 1), 1024);
+  p.trace_threshold = clampFinite(p.trace_threshold, 0.0, 10.0, d.trace_threshold);
+  p.max_trace_steps = std::min(std::max(p.max_trace_steps, 1), 100000);
+  p.min_marker_points = std::min(std::max(p.min_marker_points, 1), 100000);
+  if (p.plane_fit != PlaneFit::kThreePoint && p.plane_fit != PlaneFit::kLeastSquares)
+    p.plane_fit = d.plane_fit;
+  p.plane_max_tilt_deg = clampFinite(p.plane_max_tilt_deg, 0.1, 90.0, d.plane_max_tilt_deg);
+
+  p.gap_steps = std::min(std::max(p.gap_steps, 0), 10000);
+  p.road_gate_cos = clampFinite(p.road_gate_cos, 0.0, 1.0, d.road_gate_cos);
+  p.plane_gate = clampFinite(p.plane_gate, 0.0, 1e3, d.plane_gate);
+  p.fill_depth_holes = std::min(std::max(p.fill_depth_holes, 0), 10000);
+  p.plane_smoothing = clampFinite(p.plane_smoothing, 0.0, 0.99, d.plane_smoothing);
+  return p;
+}
+
+bool sameTemplates(const Params& a, const Params& b) {
+  return a.template_size == b.template_size && a.template_line_width == b.template_line_width &&
+         a.template_angle_deg == b.template_angle_deg;
+}
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,42 @@
+#include "rgbd_lane_detector/response_map.h"
+
+#include <algorithm>
+
+namespace rgbd_lane_detector {
+
+void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p,
+                  const cv::Range& rows, cv::Mat& G) {
+  if (G.size() != points.size() || G.type() != CV_32FC1) {
+    G.create(points.size(), CV_32FC1);
+    G.setTo(0);
+  }
+  const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, points.rows);
+  const float ux = static_cast<float>(p.up_x), uy = static_cast<float>(p.up_y),
+              uz = static_cast<float>(p.up_z);
+  for (int y = r0; y < r1; ++y) {
+    const float* pt = points.ptr<float>(y);
+    const float* n = normals.ptr<float>(y);
+    float* g = G.ptr<float>(y);
+    for (int x = 0; x < points.cols; ++x, pt += 3, n += 3) {
+      const float dot = n[0] * ux + n[1] * uy + n[2] * uz;
+      g[x] = geometricValue(pt[2], dot, y, points.rows, p);
+    }
+  }
+}
+
+void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
+                  cv::Mat& R) {
+  if (R.data != M.data && (R.size() != M.size() || R.type() != CV_32FC1)) {
+    R.create(M.size(), CV_32FC1);
+    R.setTo(0);
+  }
+  const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, M.rows);
+  for (int y = r0; y < r1; ++y) {
+    const float* m = M.ptr<float>(y);
+    const float* g = G.ptr<float>(y);
+    float* r = R.ptr<float>(y);
+    for (int x = 0; x < M.cols; ++x) r[x] = fusedValue(m[x], g[x], tau_g);
+  }
+}
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,103 @@
+#include "rgbd_lane_detector/sliding_box.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rgbd_lane_detector {
+namespace {
+
+// Centroid of the pixels above threshold in the box of side s centred at c (clipped to bounds).
+int boxCentroid(const cv::Mat& R, const cv::Point2f& c, int s, float threshold,
+                const cv::Rect& bounds, cv::Point2f& centroid) {
+  const int x0 = static_cast<int>(std::floor(c.x - 0.5f * s + 0.5f));
+  const int y0 = static_cast<int>(std::floor(c.y - 0.5f * s + 0.5f));
+  const cv::Rect box = cv::Rect(x0, y0, s, s) & bounds;
+  double sx = 0, sy = 0;
+  int n = 0;
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const float* r = R.ptr<float>(y);
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      if (r[x] > threshold) {
+        sx += x;
+        sy += y;
+        ++n;
+      }
+    }
+  }
+  if (n > 0) centroid = cv::Point2f(static_cast<float>(sx / n), static_cast<float>(sy / n));
+  return n;
+}
+
+float sampleR(const cv::Mat& R, const cv::Point2f& p) {
+  const int x = std::min(std::max(static_cast<int>(std::lround(p.x)), 0), R.cols - 1);
+  const int y = std::min(std::max(static_cast<int>(std::lround(p.y)), 0), R.rows - 1);
+  return R.at<float>(y, x);
+}
+
+// Trace one direction; appends the recorded centroids (in tracing order).
+void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
+                    const TraceParams& tp, const cv::Rect& bounds,
+                    std::vector<cv::Point2f>& out, std::vector<float>& scores) {
+  cv::Point2f pos = start;
+  cv::Point2f last = start;  // last recorded centroid
+  const float jump = static_cast<float>(std::max(tp.jump, 1));
+  int gaps = 0;
+  for (int step = 0; step < tp.max_steps; ++step) {
+    const cv::Point2f next = pos + jump * d;
+    if (next.x < bounds.x || next.y < bounds.y || next.x >= bounds.x + bounds.width ||
+        next.y >= bounds.y + bounds.height)
+      break;
+    cv::Point2f c;
+    if (boxCentroid(R, next, tp.box_size, tp.threshold, bounds, c) == 0) {
+      if (++gaps > tp.gap_steps) break;
+      pos = next;
+      continue;
+    }
+    gaps = 0;
+    // Re-centre across the marker, keep the progress along it (Eq. 4 without moving back).
+    const cv::Point2f n(-d.y, d.x);
+    const float lateral = (c - next).dot(n);
+    pos = next + lateral * n;
+    const cv::Point2f delta = c - last;
+    if (delta.dot(d) >= 0.5f * jump) {
+      out.push_back(c);
+      scores.push_back(sampleR(R, c));
+      if (tp.follow_curve) {
+        const float len = std::sqrt(delta.dot(delta));
+        if (len >= jump) {
+          cv::Point2f nd = 0.5f * d + 0.5f * (delta / len);
+          const float nl = std::sqrt(nd.dot(nd));
+          if (nl > 1e-6f) d = nd / nl;
+        }
+      }
+      last = c;
+    }
+  }
+}
+
+}  // namespace
+
+void traceMarker(const cv::Mat& R, const cv::Point2f& seed, double angle, const TraceParams& params,
+                 const cv::Rect& bounds_in, std::vector<cv::Point2f>& centroids,
+                 std::vector<float>& scores) {
+  centroids.clear();
+  scores.clear();
+  if (R.empty() || R.type() != CV_32FC1) return;
+  const cv::Rect bounds = bounds_in & cv::Rect(0, 0, R.cols, R.rows);
+  if (bounds.empty() || !bounds.contains(cv::Point(static_cast<int>(seed.x),
+                                                   static_cast<int>(seed.y))))
+    return;
+  cv::Point2f start;
+  if (boxCentroid(R, seed, params.box_size, params.threshold, bounds, start) == 0) return;
+
+  const cv::Point2f down(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
+  // near part: trace down, then reverse so that the list runs near to far
+  traceDirection(R, start, down, params, bounds, centroids, scores);
+  std::reverse(centroids.begin(), centroids.end());
+  std::reverse(scores.begin(), scores.end());
+  centroids.push_back(start);
+  scores.push_back(sampleR(R, start));
+  traceDirection(R, start, -down, params, bounds, centroids, scores);
+}
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,43 @@
+// Minimal ray-cast road scenes with exact ground truth, for the core unit tests.
+// (The full generator with textures, weather and sensors lives in tools/.)
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+namespace test {
+
+struct RoadScene {
+  int width = 640;
+  int height = 380;
+  Intrinsics K{266.37, 266.37, 320.0, 190.0};  // SYNTHIA at half resolution
+  double camera_height = 1.5;                  // m above the road
+  double pitch = 0.08;                         // rad, camera looking down
+  double lane_width = 3.6;                     // m between marker centres
+  double lateral_offset = 0.0;                 // camera offset from the lane centre (m, + right)
+  double marker_width = 0.15;                  // m
+  bool left_dashed = false;
+  bool right_dashed = false;
+  double dash_length = 3.0;                    // m
+  double dash_period = 12.0;                   // m
+  int asphalt = 70;
+  int paint = 230;
+  int sky = 200;
+  double max_range = 80.0;                     // depth beyond this is 0 (invalid)
+
+  /// Road plane in the optical frame: normal . p + distance = 0, normal toward the camera.
+  Eigen::Vector3d planeNormal() const;
+  double planeDistance() const { return camera_height; }
+  /// Lateral position of the left / right marker centre (m, + right of the camera).
+  double leftMarkerX() const { return -0.5 * lane_width - lateral_offset; }
+  double rightMarkerX() const { return 0.5 * lane_width - lateral_offset; }
+
+  /// Render colour (bgr8), depth (uint16 mm) and optionally float depth (m).
+  void render(cv::Mat& bgr, cv::Mat& depth_mm, cv::Mat* depth_m = nullptr) const;
+};
+
+}  // namespace test
+}  // namespace rgbd_lane_detector
