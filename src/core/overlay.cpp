@@ -1,0 +1,110 @@
+#include "rgbd_lane_detector/overlay.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <opencv2/imgproc.hpp>
+
+namespace rgbd_lane_detector {
+namespace {
+
+const cv::Scalar kLeftColour(60, 220, 60);     // green
+const cv::Scalar kRightColour(0, 150, 255);    // orange
+const cv::Scalar kPlaneColour(255, 200, 0);    // cyan-blue
+const cv::Scalar kRoiColour(200, 200, 200);
+
+bool project(const Intrinsics& K, const Eigen::Vector3d& p, cv::Point& out) {
+  if (!(p.z() > 0.1)) return false;
+  out = cv::Point(static_cast<int>(std::lround(K.fx * p.x() / p.z() + K.cx)),
+                  static_cast<int>(std::lround(K.fy * p.y() / p.z() + K.cy)));
+  return true;
+}
+
+void drawMarker(cv::Mat& out, const MarkerTrace& m, const cv::Scalar& colour, int box) {
+  if (m.seed.x < 0) return;
+  for (size_t i = 1; i < m.pixels.size(); ++i)
+    cv::line(out, m.pixels[i - 1], m.pixels[i], colour, 2, cv::LINE_AA);
+  for (const auto& p : m.pixels) cv::circle(out, p, 3, colour, m.found ? -1 : 1, cv::LINE_AA);
+  const cv::Point2f half(0.5f * box, 0.5f * box);
+  cv::rectangle(out, m.seed - half, m.seed + half, colour, 1);
+  const cv::Point2f dir(static_cast<float>(std::cos(m.angle)), static_cast<float>(std::sin(m.angle)));
+  cv::arrowedLine(out, m.seed - dir * (0.5f * box), m.seed + dir * (0.5f * box), colour, 1,
+                  cv::LINE_AA, 0, 0.3);
+}
+
+void drawPlaneGrid(cv::Mat& out, const Intrinsics& K, const PlaneEstimate& plane) {
+  if (!plane.valid || !K.valid()) return;
+  // Orthonormal basis of the plane: "forward" is the optical axis projected into the plane.
+  const Eigen::Vector3d n = plane.normal;
+  Eigen::Vector3d fwd = Eigen::Vector3d::UnitZ() - n * n.z();
+  if (fwd.norm() < 1e-6) return;
+  fwd.normalize();
+  const Eigen::Vector3d side = fwd.cross(n).normalized();
+  const Eigen::Vector3d origin = -plane.distance * n;  // foot of the camera on the plane
+  for (int i = -3; i <= 3; ++i) {       // lines along the road every 1.8 m
+    for (int k = 2; k < 40; k += 2) {
+      cv::Point a, b;
+      const Eigen::Vector3d pa = origin + side * (1.8 * i) + fwd * k;
+      const Eigen::Vector3d pb = origin + side * (1.8 * i) + fwd * (k + 2);
+      if (project(K, pa, a) && project(K, pb, b)) cv::line(out, a, b, kPlaneColour, 1, cv::LINE_AA);
+    }
+  }
+  for (int k = 4; k <= 40; k += 4) {    // cross lines every 4 m
+    cv::Point a, b;
+    if (project(K, origin + fwd * k - side * 5.4, a) && project(K, origin + fwd * k + side * 5.4, b))
+      cv::line(out, a, b, kPlaneColour, 1, cv::LINE_AA);
+  }
+}
+
+}  // namespace
+
+void drawOverlay(const cv::Mat& colour, PixelFormat format, const Intrinsics& K,
+                 const Result& result, const Params& params, cv::Mat& out) {
+  switch (format) {
+    case PixelFormat::kBgr8:
+      colour.copyTo(out);
+      break;
+    case PixelFormat::kRgb8:
+      cv::cvtColor(colour, out, cv::COLOR_RGB2BGR);
+      break;
+    case PixelFormat::kBgra8:
+      cv::cvtColor(colour, out, cv::COLOR_BGRA2BGR);
+      break;
+    case PixelFormat::kRgba8:
+      cv::cvtColor(colour, out, cv::COLOR_RGBA2BGR);
+      break;
+    case PixelFormat::kMono8:
+      cv::cvtColor(colour, out, cv::COLOR_GRAY2BGR);
+      break;
+  }
+  if (out.empty()) return;
+  if (result.status != Status::kOk) {
+    cv::putText(out, statusMessage(result.status), cv::Point(10, 20), cv::FONT_HERSHEY_SIMPLEX,
+                0.5, cv::Scalar(0, 0, 255), 1, cv::LINE_AA);
+    return;
+  }
+  const double inv = result.scale > 0 ? 1.0 / result.scale : 1.0;
+  const int top = static_cast<int>(std::lround(result.roi.y * inv));
+  cv::line(out, cv::Point(0, top), cv::Point(out.cols - 1, top), kRoiColour, 1);
+  drawPlaneGrid(out, K, result.plane);
+  const int box = static_cast<int>(std::lround(params.template_size * inv));
+  drawMarker(out, result.left, kLeftColour, box);
+  drawMarker(out, result.right, kRightColour, box);
+
+  char text[160];
+  std::snprintf(text, sizeof(text), "L %.2f (%d pts)  R %.2f (%d pts)  %.1f ms",
+                result.left.peak_score, result.left.num_valid_points, result.right.peak_score,
+                result.right.num_valid_points, result.timings.total);
+  cv::putText(out, text, cv::Point(10, 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
+              1, cv::LINE_AA);
+  if (result.plane.valid) {
+    std::snprintf(text, sizeof(text), "plane n=(%.3f %.3f %.3f) d=%.2f m", result.plane.normal.x(),
+                  result.plane.normal.y(), result.plane.normal.z(), result.plane.distance);
+  } else {
+    std::snprintf(text, sizeof(text), "no plane");
+  }
+  cv::putText(out, text, cv::Point(10, 40), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
+              1, cv::LINE_AA);
+}
+
+}  // namespace rgbd_lane_detector
