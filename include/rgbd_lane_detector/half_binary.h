@@ -24,9 +24,10 @@ namespace rgbd_lane_detector {
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out);
 
-/// Grey value of one pixel with the weights halfBinary() uses.
+/// Grey value of one pixel with the weights halfBinary() uses: OpenCV's 15-bit fixed-point
+/// BT.601 (0.299, 0.587, 0.114), so it equals cv::cvtColor(..., COLOR_BGR2GRAY) bit for bit.
 inline int greyValue(int r, int g, int b) {
-  return (r * 4899 + g * 9617 + b * 1868 + (1 << 13)) >> 14;
+  return (r * 9798 + g * 19235 + b * 3735 + (1 << 14)) >> 15;
 }
 
 }  // namespace rgbd_lane_detector

@@ -20,8 +20,9 @@ struct PcaAngle {
 };
 
 /**
- * @brief Grow the 8-connected region of R > threshold around @p peak inside a
- * box_size x box_size patch centred on it, and return its first principal axis.
+ * @brief Grow the 8-connected region of R > threshold around @p peak inside the disc of
+ * diameter box_size centred on it (the template-sized patch; a disc keeps the estimate
+ * unbiased for thick lines), and return its first principal axis.
  * @param[in] R CV_32FC1 response map.
  * @param[in] peak start pixel (usually the maximum of R).
  * @param[in] threshold P_PCA.

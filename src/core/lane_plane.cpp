@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 namespace rgbd_lane_detector {
 namespace {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
 namespace rgbd_lane_detector {

@@ -37,6 +37,10 @@ PcaAngle pcaMarkerAngle(const cv::Mat& R, const cv::Point& peak, float threshold
       for (int dx = -1; dx <= 1; ++dx) {
         const cv::Point q(p.x + dx, p.y + dy);
         if (!box.contains(q)) continue;
+        // a disc, not the square: clipping a band by a square tilts its principal axis
+        // toward the square's diagonal; a disc centred on the band clips it symmetrically
+        const int ox = q.x - peak.x, oy = q.y - peak.y;
+        if (ox * ox + oy * oy > half * half) continue;
         uint8_t& seen = visited[(q.y - box.y) * box.width + (q.x - box.x)];
         if (seen) continue;
         seen = 1;

@@ -1,0 +1,116 @@
+// Depth to organised 3D points (Eq. 1), invalid depth handling and hole filling.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "rgbd_lane_detector/depth_points.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+const Intrinsics kK{500.0, 400.0, 320.5, 240.25};
+
+TEST(DepthPoints, ExactBackProjection) {
+  cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
+  depth.at<float>(10, 600) = 7.5f;
+  cv::Mat points;
+  DepthDecoder dec;
+  ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 480), points));
+  ASSERT_EQ(points.type(), CV_32FC3);
+  const cv::Vec3f p = points.at<cv::Vec3f>(10, 600);
+  EXPECT_NEAR(p[0], (600 - 320.5) / 500.0 * 7.5, 1e-5);
+  EXPECT_NEAR(p[1], (10 - 240.25) / 400.0 * 7.5, 1e-5);
+  EXPECT_FLOAT_EQ(p[2], 7.5f);
+  const cv::Vec3f c = points.at<cv::Vec3f>(240, 320);
+  EXPECT_NEAR(c[0], -0.5 / 500.0 * 2.0, 1e-7);
+  EXPECT_NEAR(c[1], -0.25 / 400.0 * 2.0, 1e-7);
+}
+
+TEST(DepthPoints, InvalidDepthIsNaN) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  cv::Mat depth = (cv::Mat_<float>(1, 7) << 0.f, nan, inf, -1.f, 0.05f, 500.f, 3.f);
+  DepthDecoder dec;
+  dec.min_depth = 0.1;
+  dec.max_depth = 100.0;
+  cv::Mat points;
+  ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 1), points));
+  for (int x = 0; x < 6; ++x) {
+    const cv::Vec3f p = points.at<cv::Vec3f>(0, x);
+    EXPECT_TRUE(std::isnan(p[0]) && std::isnan(p[1]) && std::isnan(p[2])) << "column " << x;
+  }
+  EXPECT_FLOAT_EQ(points.at<cv::Vec3f>(0, 6)[2], 3.f);
+}
+
+TEST(DepthPoints, SixteenBitScaleAndFloatAgree) {
+  cv::RNG rng(3);
+  cv::Mat mm(60, 80, CV_16UC1);
+  rng.fill(mm, cv::RNG::UNIFORM, 0, 20000);
+  mm.at<uint16_t>(5, 5) = 0;
+  cv::Mat metres;
+  mm.convertTo(metres, CV_32FC1, 0.001);
+  metres.at<float>(5, 5) = 0.f;
+  DepthDecoder dec;
+  dec.scale = 0.001;
+  cv::Mat a, b;
+  ASSERT_TRUE(depthToPoints(mm, dec, kK, cv::Range(0, 60), a));
+  ASSERT_TRUE(depthToPoints(metres, dec, kK, cv::Range(0, 60), b));
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 80; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float u = a.at<cv::Vec3f>(y, x)[c], v = b.at<cv::Vec3f>(y, x)[c];
+        if (std::isnan(u) || std::isnan(v)) {
+          EXPECT_TRUE(std::isnan(u) && std::isnan(v));
+        } else {
+          EXPECT_NEAR(u, v, 1e-5f * std::max(1.f, std::fabs(u)));
+        }
+      }
+  // centimetres (SYNTHIA) through the scale
+  dec.scale = 0.01;
+  cv::Mat cm(1, 1, CV_16UC1, cv::Scalar(1234)), p;
+  ASSERT_TRUE(depthToPoints(cm, dec, kK, cv::Range(0, 1), p));
+  EXPECT_NEAR(p.at<cv::Vec3f>(0, 0)[2], 12.34f, 1e-5);
+}
+
+TEST(DepthPoints, UnsupportedTypeIsRejected) {
+  cv::Mat d(4, 4, CV_8UC1, cv::Scalar(1)), p;
+  EXPECT_FALSE(depthToPoints(d, DepthDecoder(), kK, cv::Range(0, 4), p));
+}
+
+TEST(DepthPoints, ResamplingMapsUseSourceCoordinates) {
+  cv::Mat depth(8, 8, CV_32FC1, cv::Scalar(4.f));
+  cv::Mat col_map = (cv::Mat_<int>(1, 4) << 0, 2, 4, 6);
+  cv::Mat row_map = (cv::Mat_<int>(1, 4) << 1, 3, 5, 7);
+  cv::Mat p;
+  ASSERT_TRUE(depthToPoints(depth, DepthDecoder(), kK, cv::Range(0, 4), p, col_map, row_map));
+  ASSERT_EQ(p.size(), cv::Size(4, 4));
+  EXPECT_NEAR(p.at<cv::Vec3f>(2, 3)[0], (6 - kK.cx) / kK.fx * 4.0, 1e-5);
+  EXPECT_NEAR(p.at<cv::Vec3f>(2, 3)[1], (5 - kK.cy) / kK.fy * 4.0, 1e-5);
+}
+
+TEST(DepthPoints, HoleFillingStaysOnThePlaneAndOnTheRay) {
+  // ground plane y = 1.5 seen by a level camera: rows below the principal point
+  const Intrinsics K{300, 300, 50, 20};
+  cv::Mat depth(60, 100, CV_32FC1);
+  for (int v = 0; v < 60; ++v)
+    for (int u = 0; u < 100; ++u)
+      depth.at<float>(v, u) = v > 20 ? static_cast<float>(1.5 * K.fy / (v - K.cy)) : 0.f;
+  // a hole of 6 pixels on row 40 and one of 30 on row 45
+  for (int u = 30; u < 36; ++u) depth.at<float>(40, u) = 0.f;
+  for (int u = 10; u < 40; ++u) depth.at<float>(45, u) = 0.f;
+  cv::Mat p;
+  ASSERT_TRUE(depthToPoints(depth, DepthDecoder(), K, cv::Range(0, 60), p));
+  fillDepthHoles(p, cv::Range(0, 60), 10);
+  for (int u = 30; u < 36; ++u) {
+    const cv::Vec3f q = p.at<cv::Vec3f>(40, u);
+    ASSERT_FALSE(std::isnan(q[2]));
+    EXPECT_NEAR(q[1], 1.5f, 1e-4);                       // on the plane
+    EXPECT_NEAR(q[0] / q[2], (u - K.cx) / K.fx, 1e-5);   // on its ray
+  }
+  EXPECT_TRUE(std::isnan(p.at<cv::Vec3f>(45, 20)[2]));  // too long: left invalid
+  EXPECT_TRUE(std::isnan(p.at<cv::Vec3f>(5, 5)[2]));    // no valid ends: left invalid
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,66 @@
+// Geometric map G (Eq. 2, both depth terms) and fused response R (Eq. 3), hand-computed.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "rgbd_lane_detector/response_map.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+TEST(GeometricMap, EveryBranchOfEquation2) {
+  Params p;  // alpha 0.4, beta 0.1, T_D 20
+  p.depth_term = DepthTerm::kNearHigh;
+  // D <= T_D: alpha |n.O_y| + beta (T_D - D) / T_D
+  EXPECT_NEAR(geometricValue(5.f, -0.9f, 300, 380, p), 0.4 * 0.9 + 0.1 * 15.0 / 20.0, 1e-6);
+  EXPECT_NEAR(geometricValue(20.f, 0.9f, 300, 380, p), 0.4 * 0.9, 1e-6);  // D == T_D
+  // D > T_D: alpha |n.O_y| + beta v / H
+  EXPECT_NEAR(geometricValue(25.f, -0.9f, 300, 380, p), 0.4 * 0.9 + 0.1 * 300.0 / 380.0, 1e-6);
+  // unknown depth and normal: only the row term
+  EXPECT_NEAR(geometricValue(kNaN, kNaN, 190, 380, p), 0.1 * 0.5, 1e-6);
+  // paper's printed variant D / T_D
+  p.depth_term = DepthTerm::kFarHigh;
+  EXPECT_NEAR(geometricValue(5.f, -0.9f, 300, 380, p), 0.4 * 0.9 + 0.1 * 5.0 / 20.0, 1e-6);
+  EXPECT_NEAR(geometricValue(25.f, -0.9f, 300, 380, p), 0.4 * 0.9 + 0.1 * 300.0 / 380.0, 1e-6);
+  // a vertical surface (wall, truck side) gets no normal term
+  p.depth_term = DepthTerm::kNearHigh;
+  EXPECT_NEAR(geometricValue(10.f, 0.f, 300, 380, p), 0.1 * 0.5, 1e-6);
+}
+
+TEST(ResponseMap, EveryBranchOfEquation3) {
+  EXPECT_FLOAT_EQ(fusedValue(0.4f, 0.3f, 0.5f), 0.4f);   // M < tau_G: R = M
+  EXPECT_FLOAT_EQ(fusedValue(0.5f, 0.3f, 0.5f), 0.8f);   // M >= tau_G: R = M + G
+  EXPECT_FLOAT_EQ(fusedValue(0.9f, 0.45f, 0.5f), 1.35f);
+  EXPECT_FLOAT_EQ(fusedValue(0.0f, 0.45f, 0.0f), 0.45f);
+}
+
+TEST(ResponseMap, MapsOverRowsWithUpAxisAndInPlaceFusion) {
+  Params p;
+  p.up_x = 0;
+  p.up_y = -1;
+  p.up_z = 0;
+  cv::Mat points(4, 3, CV_32FC3, cv::Scalar(0, 1.5, 10));
+  cv::Mat normals(4, 3, CV_32FC3, cv::Scalar(0, -0.8, -0.6));
+  points.at<cv::Vec3f>(2, 1) = cv::Vec3f(kNaN, kNaN, kNaN);
+  normals.at<cv::Vec3f>(2, 1) = cv::Vec3f(kNaN, kNaN, kNaN);
+  cv::Mat G;
+  geometricMap(points, normals, p, cv::Range(1, 3), G);
+  ASSERT_EQ(G.type(), CV_32FC1);
+  EXPECT_NEAR(G.at<float>(1, 0), 0.4 * 0.8 + 0.1 * 0.5, 1e-6);
+  EXPECT_NEAR(G.at<float>(2, 1), 0.1 * 2.0 / 4.0, 1e-6);  // unknown: row term only
+  EXPECT_EQ(G.at<float>(0, 0), 0.f);                         // outside the rows
+  EXPECT_EQ(G.at<float>(3, 2), 0.f);
+
+  cv::Mat M(4, 3, CV_32FC1, cv::Scalar(0.7f));
+  M.at<float>(1, 2) = 0.2f;
+  fuseResponse(M, G, 0.5f, cv::Range(1, 3), M);  // in place
+  EXPECT_NEAR(M.at<float>(1, 0), 0.7 + 0.4 * 0.8 + 0.05, 1e-6);
+  EXPECT_FLOAT_EQ(M.at<float>(1, 2), 0.2f);
+  EXPECT_FLOAT_EQ(M.at<float>(0, 0), 0.7f);  // outside the rows: unchanged
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,127 @@
+// NCC matching: equal to cv::matchTemplate(TM_CCOEFF_NORMED) within 1e-4.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "rgbd_lane_detector/half_binary.h"
+#include "rgbd_lane_detector/template_matching.h"
+#include "synthetic_scene.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+double maxDiff(const cv::Mat& a, const cv::Mat& b) { return cv::norm(a, b, cv::NORM_INF); }
+
+void expectMatchesReference(const cv::Mat& image, const cv::Rect& region, double left_angle,
+                            double right_angle, int size = 32, int width = 10) {
+  LineTemplate l, r;
+  makeLineTemplate(size, width, left_angle, l);
+  makeLineTemplate(size, width, right_angle, r);
+  NccMatcher matcher;
+  cv::Mat ml, mr, rl, rr;
+  ASSERT_TRUE(matcher.match(image, region, l, r, ml, mr));
+  matchTemplateReference(image, region, l, rl);
+  matchTemplateReference(image, region, r, rr);
+  EXPECT_LT(maxDiff(ml, rl), 1e-4) << "left angle " << left_angle;
+  EXPECT_LT(maxDiff(mr, rr), 1e-4) << "right angle " << right_angle;
+  double lo, hi;
+  cv::minMaxLoc(ml, &lo, &hi);
+  EXPECT_GE(lo, 0.0);
+  EXPECT_LE(hi, 1.0);
+}
+
+TEST(LineTemplate, OneRunPerRowMatchesTheImage) {
+  for (double a : {0.3, M_PI / 4, 1.2, M_PI / 2, 2.0, 3 * M_PI / 4, 2.8}) {
+    LineTemplate t;
+    makeLineTemplate(32, 10, a, t);
+    ASSERT_EQ(t.image.size(), cv::Size(32, 32));
+    int count = 0;
+    for (int r = 0; r < 32; ++r)
+      for (int c = 0; c < 32; ++c) {
+        const bool on = c >= t.run_begin[r] && c < t.run_end[r];
+        EXPECT_EQ(t.image.at<uint8_t>(r, c), on ? 255 : 0);
+        count += on;
+      }
+    EXPECT_EQ(count, t.count);
+    EXPECT_EQ(cv::countNonZero(t.image), t.count);
+  }
+  // the default right template "\" runs from the top-left to the bottom-right corner
+  LineTemplate right;
+  makeLineTemplate(32, 10, M_PI / 4, right);
+  EXPECT_EQ(right.image.at<uint8_t>(0, 0), 255);
+  EXPECT_EQ(right.image.at<uint8_t>(31, 31), 255);
+  EXPECT_EQ(right.image.at<uint8_t>(0, 31), 0);
+  LineTemplate left;
+  makeLineTemplate(32, 10, 3 * M_PI / 4, left);
+  EXPECT_EQ(left.image.at<uint8_t>(31, 0), 255);
+  EXPECT_EQ(left.image.at<uint8_t>(0, 31), 255);
+  EXPECT_EQ(left.image.at<uint8_t>(0, 0), 0);
+}
+
+TEST(NccMatcher, EqualsMatchTemplateOnRandomImages) {
+  cv::RNG rng(42);
+  cv::Mat img(120, 160, CV_8UC1);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  expectMatchesReference(img, cv::Rect(0, 0, 160, 120), 3 * M_PI / 4, M_PI / 4);
+  expectMatchesReference(img, cv::Rect(5, 40, 150, 70), 2.1, 0.9);
+  expectMatchesReference(img, cv::Rect(0, 0, 160, 120), 2.5, 0.5, 17, 3);
+}
+
+TEST(NccMatcher, EqualsMatchTemplateOnARoad) {
+  test::RoadScene scene;
+  scene.right_dashed = true;
+  cv::Mat bgr, depth, hb;
+  scene.render(bgr, depth);
+  halfBinary(bgr, PixelFormat::kBgr8, 100, cv::Range(0, bgr.rows), hb);
+  const cv::Rect roi(0, 156, 640, 224);
+  expectMatchesReference(hb, roi, 3 * M_PI / 4, M_PI / 4);
+  expectMatchesReference(hb, roi, 2.4, 0.65);
+  // the road markers give the highest scores: half-binary leaves only paint above tau_c
+  LineTemplate l, r;
+  makeLineTemplate(32, 10, 3 * M_PI / 4, l);
+  makeLineTemplate(32, 10, M_PI / 4, r);
+  NccMatcher m;
+  cv::Mat ml, mr;
+  ASSERT_TRUE(m.match(hb, roi, l, r, ml, mr));
+  double hi;
+  cv::Point at;
+  cv::minMaxLoc(ml, nullptr, &hi, nullptr, &at);
+  EXPECT_GT(hi, 0.5);
+  EXPECT_LT(at.x, 320);  // the left marker is left of the centre
+  cv::minMaxLoc(mr, nullptr, &hi, nullptr, &at);
+  EXPECT_GT(hi, 0.5);
+  EXPECT_GT(at.x, 320);
+}
+
+TEST(NccMatcher, FlatWindowsScoreZeroAndOutsideRegionIsZero) {
+  cv::Mat img(64, 64, CV_8UC1, cv::Scalar(0));
+  img(cv::Rect(0, 0, 64, 20)).setTo(180);  // flat bright band
+  LineTemplate l, r;
+  makeLineTemplate(16, 4, 3 * M_PI / 4, l);
+  makeLineTemplate(16, 4, M_PI / 4, r);
+  NccMatcher m;
+  cv::Mat ml, mr, ref;
+  ASSERT_TRUE(m.match(img, cv::Rect(0, 0, 64, 64), l, r, ml, mr));
+  EXPECT_EQ(ml.at<float>(8, 30), 0.f);   // window inside the flat band
+  EXPECT_EQ(ml.at<float>(50, 30), 0.f);  // window of zeros
+  matchTemplateReference(img, cv::Rect(0, 0, 64, 64), l, ref);
+  EXPECT_LT(maxDiff(ml, ref), 1e-4);
+  EXPECT_EQ(ml.at<float>(0, 0), 0.f);    // border: no full window
+}
+
+TEST(NccMatcher, RegionSmallerThanTemplateFailsCleanly) {
+  cv::Mat img(20, 20, CV_8UC1, cv::Scalar(100));
+  LineTemplate l, r;
+  makeLineTemplate(32, 10, 3 * M_PI / 4, l);
+  makeLineTemplate(32, 10, M_PI / 4, r);
+  NccMatcher m;
+  cv::Mat ml, mr;
+  EXPECT_FALSE(m.match(img, cv::Rect(0, 0, 20, 20), l, r, ml, mr));
+  ASSERT_EQ(ml.size(), img.size());
+  EXPECT_EQ(cv::countNonZero(ml), 0);
+  EXPECT_FALSE(m.match(img, cv::Rect(-50, -50, 10, 10), l, r, ml, mr));
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
