@@ -19,19 +19,15 @@ export ROS_HOME ?= $(BUILD)/ros_home
 CMAKE_ARGS := -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps workspace build test demo bench eval test-sanitize format clean
+.PHONY: all deps build test demo bench eval test-sanitize format clean
 
 all: build
 
 deps:
 	@$(ROOT)/scripts/install_deps.sh
 
-workspace:
-	@mkdir -p $(WS)/src $(ROS_HOME)
-	@if [ ! -e $(WS)/src/$(PKG) ]; then ln -s $(ROOT) $(WS)/src/$(PKG); fi
-
-build: deps workspace
-	@cd $(WS) && { catkin_make -j$(JOBS) $(CMAKE_ARGS) > $(BUILD)/catkin_make.log 2>&1 || { tail -n 60 $(BUILD)/catkin_make.log; exit 1; }; } && grep -E "warning:" $(BUILD)/catkin_make.log | grep -v "^/usr" | head -20; echo "build: ok (log: build/catkin_make.log)"
+build: deps
+	@$(ROOT)/scripts/build.sh $(WS)
 
 test: build
 	@$(ROOT)/scripts/run_tests.sh $(WS)
