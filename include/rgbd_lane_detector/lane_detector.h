@@ -62,6 +62,11 @@ class LaneDetector {
   /// on the pixel's ray, else NaN (never a zero depth).
   Eigen::Vector3f pointAt(const cv::Point2f& c) const;
   void fitPlane(Result& result);
+  bool planePlausible(const PlaneEstimate& plane) const;
+  void snapToPlane(const PlaneEstimate& plane, MarkerTrace& m) const;
+  bool laneWidthPlausible(const PlaneEstimate& plane, const MarkerTrace& L,
+                          const MarkerTrace& R) const;
+  void rejectIncomplete(Result& result) const;
   void updateTemplates(const Result& result);
 
   Params params_;
@@ -95,6 +100,7 @@ class LaneDetector {
   std::vector<cv::Point2f> trace_pixels_;
   std::vector<float> trace_scores_;
   std::vector<Eigen::Vector3f> fit_points_;
+  mutable std::vector<double> width_samples_;
 };
 
 }  // namespace rgbd_lane_detector

@@ -62,6 +62,8 @@ struct Params {
   // --- Lane plane -----------------------------------------------------------
   PlaneFit plane_fit = PlaneFit::kThreePoint;
   double plane_max_tilt_deg = 90.0;  ///< reject planes tilted more than this from O_y (90: off)
+  double plane_distance_min = 0.0;   ///< reject planes closer to the camera than this (m)
+  double plane_distance_max = 1e3;   ///< reject planes farther from the camera than this (m)
 
   // --- Improvements over the paper (named options; all off = paper-faithful) --
   int gap_steps = 0;              ///< sliding box may cross this many empty boxes (dashed lines)
@@ -71,6 +73,10 @@ struct Params {
   double plane_gate = 0.0;        ///< >0: drop marker points farther than this (m) from the previous plane
   int fill_depth_holes = 0;       ///< >0: fill invalid depth from valid neighbours along rows up to this many px
   double plane_smoothing = 0.0;   ///< temporal filter weight of the previous plane in [0, 1)
+  bool snap_to_plane = false;     ///< marker points = their pixel rays met with the lane plane
+  double lane_width_min = 0.0;    ///< with lane_width_max > 0: reject lanes narrower than this (m)
+  double lane_width_max = 0.0;    ///< reject lanes wider than this (m); 0: no check
+  bool report_only_complete = false;  ///< report markers only together with a valid plane
 
   /// Paper-faithful configuration (the defaults).
   static Params paper() { return Params(); }

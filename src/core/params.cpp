@@ -20,7 +20,13 @@ Params Params::improved() {
   p.road_gate = true;
   p.plane_fit = PlaneFit::kLeastSquares;
   p.plane_max_tilt_deg = 30.0;
+  p.plane_distance_min = 0.3;
+  p.plane_distance_max = 5.0;
   p.fill_depth_holes = 0;
+  p.snap_to_plane = true;
+  p.lane_width_min = 2.0;
+  p.lane_width_max = 5.5;
+  p.report_only_complete = true;
   return p;
 }
 
@@ -66,6 +72,11 @@ Params sanitize(const Params& in) {
   if (p.plane_fit != PlaneFit::kThreePoint && p.plane_fit != PlaneFit::kLeastSquares)
     p.plane_fit = d.plane_fit;
   p.plane_max_tilt_deg = clampFinite(p.plane_max_tilt_deg, 0.1, 90.0, d.plane_max_tilt_deg);
+  p.plane_distance_min = clampFinite(p.plane_distance_min, 0.0, 1e3, d.plane_distance_min);
+  p.plane_distance_max =
+      clampFinite(p.plane_distance_max, p.plane_distance_min, 1e6, d.plane_distance_max);
+  p.lane_width_min = clampFinite(p.lane_width_min, 0.0, 100.0, d.lane_width_min);
+  p.lane_width_max = clampFinite(p.lane_width_max, 0.0, 100.0, d.lane_width_max);
 
   p.gap_steps = std::min(std::max(p.gap_steps, 0), 10000);
   p.road_gate_cos = clampFinite(p.road_gate_cos, 0.0, 1.0, d.road_gate_cos);
