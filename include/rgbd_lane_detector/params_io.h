@@ -1,0 +1,40 @@
+/**
+ * @file params_io.h
+ * @brief Parameters by name (the dynamic_reconfigure names) and flat YAML parameter files.
+ */
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rgbd_lane_detector/params.h"
+
+namespace rgbd_lane_detector {
+
+/// Names of every Params field, in declaration order (the names of cfg/LaneDetector.cfg plus
+/// up_x, up_y, up_z).
+const std::vector<std::string>& paramNames();
+
+/**
+ * @brief Set one field by name. Booleans take 0/1, enums their integer value.
+ * @return false for an unknown name (the parameters are unchanged).
+ */
+bool setParam(Params& p, const std::string& name, double value);
+
+/// Read one field by name as a double; false for an unknown name.
+bool getParam(const Params& p, const std::string& name, double& value);
+
+/**
+ * @brief Apply a flat YAML file of `name: value` lines (ROS parameter file style, comments
+ * allowed) on top of @p p. Values: numbers, true/false, and the enum names near_high, far_high,
+ * three_point, least_squares. A `mode: paper|improved` line (anywhere) selects that preset as the base the
+ * other keys apply to.
+ * Keys that are not parameters (e.g. node settings such as queue_size) are ignored.
+ * @param[in] path file to read.
+ * @param[in,out] p parameters to update.
+ * @param[out] error message when the file cannot be read or a value is malformed.
+ * @return false on error (then @p p is unchanged).
+ */
+bool loadParamsYaml(const std::string& path, Params& p, std::string* error = nullptr);
+
+}  // namespace rgbd_lane_detector

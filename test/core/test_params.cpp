@@ -1,0 +1,139 @@
+// Parameters: names match cfg/LaneDetector.cfg, sanitising, YAML files.
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <regex>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "rgbd_lane_detector/params_io.h"
+
+#ifndef RLD_SOURCE_DIR
+#error "RLD_SOURCE_DIR must point at the package source"
+#endif
+
+namespace rgbd_lane_detector {
+namespace {
+
+std::set<std::string> cfgNames() {
+  std::ifstream in(std::string(RLD_SOURCE_DIR) + "/cfg/LaneDetector.cfg");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  std::set<std::string> names;
+  const std::regex re(R"(\.add\(name=\"([a-z_0-9]+)\")");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+       ++it)
+    names.insert((*it)[1]);
+  return names;
+}
+
+TEST(Params, EveryFieldIsADynamicReconfigureParameter) {
+  const std::set<std::string> cfg = cfgNames();
+  ASSERT_GT(cfg.size(), 20u);
+  std::set<std::string> fields(paramNames().begin(), paramNames().end());
+  // the up axis comes from the camera or tf, not from the reconfigure GUI
+  for (const char* n : {"up_x", "up_y", "up_z"}) EXPECT_EQ(fields.erase(n), 1u);
+  EXPECT_EQ(cfg, fields);
+  for (const char* n : {"tau_c", "template_size", "template_line_width", "normal_window",
+                        "depth_threshold", "alpha", "beta", "tau_g", "pca_threshold",
+                        "jump_step", "roi_top", "processing_scale", "depth_term", "use_depth"})
+    EXPECT_TRUE(cfg.count(n)) << n;  // the names INTERFACE.md promises
+}
+
+TEST(Params, SetAndGetRoundTripForEveryName) {
+  for (const std::string& name : paramNames()) {
+    Params p;
+    double v0 = -1;
+    ASSERT_TRUE(getParam(p, name, v0)) << name;
+    const double v1 = (v0 == 0.0) ? 1.0 : (v0 == 1.0 ? 0.0 : v0 + 1.0);
+    ASSERT_TRUE(setParam(p, name, v1)) << name;
+    double back = -1;
+    ASSERT_TRUE(getParam(p, name, back));
+    EXPECT_DOUBLE_EQ(back, v1) << name;
+  }
+  Params p;
+  double v;
+  EXPECT_FALSE(setParam(p, "no_such_parameter", 1.0));
+  EXPECT_FALSE(getParam(p, "no_such_parameter", v));
+}
+
+TEST(Params, DefaultsAreThePapersValues) {
+  const Params p;
+  EXPECT_EQ(p.template_size, 32);
+  EXPECT_EQ(p.normal_window, 5);
+  EXPECT_DOUBLE_EQ(p.depth_threshold, 20.0);
+  EXPECT_DOUBLE_EQ(p.alpha, 0.4);
+  EXPECT_DOUBLE_EQ(p.beta, 0.1);
+  EXPECT_DOUBLE_EQ(p.tau_g, 0.5);
+  EXPECT_EQ(p.jump_step, 5);
+  EXPECT_DOUBLE_EQ(p.pca_threshold, 0.75);
+  EXPECT_EQ(p.tau_c, 100);
+  EXPECT_EQ(p.template_line_width, 10);
+  EXPECT_EQ(p.plane_fit, PlaneFit::kThreePoint);
+  EXPECT_EQ(p.gap_steps, 0);
+}
+
+TEST(Params, SanitiseRepairsOutOfRangeValues) {
+  Params p;
+  p.normal_window = 4;
+  p.tau_c = 400;
+  p.roi_top = 0.8;
+  p.roi_bottom = 0.5;
+  p.alpha = std::numeric_limits<double>::quiet_NaN();
+  p.up_x = 0;
+  p.up_y = 0;
+  p.up_z = 0;
+  p.template_line_width = 100;
+  const Params s = sanitize(p);
+  EXPECT_EQ(s.normal_window, 5);
+  EXPECT_EQ(s.tau_c, 255);
+  EXPECT_GT(s.roi_bottom, s.roi_top);
+  EXPECT_DOUBLE_EQ(s.alpha, Params().alpha);
+  EXPECT_DOUBLE_EQ(s.up_y, -1.0);
+  EXPECT_LE(s.template_line_width, s.template_size);
+  p = Params();
+  p.normal_window = 9;
+  EXPECT_EQ(sanitize(p).normal_window, 7);
+  // valid input comes back unchanged
+  const Params d = sanitize(Params());
+  EXPECT_EQ(d.normal_window, 5);
+  EXPECT_DOUBLE_EQ(d.roi_top, Params().roi_top);
+}
+
+TEST(Params, LoadsFlatYamlFiles) {
+  const std::string path = ::testing::TempDir() + "rld_params.yaml";
+  {
+    std::ofstream out(path);
+    out << "# a parameter file\n"
+           "tau_c: 120        # threshold\n"
+           "use_depth: false\n"
+           "depth_term: far_high\n"
+           "plane_fit: least_squares\n"
+           "alpha: 0.35\n"
+           "mode: improved    # anywhere in the file\n"
+           "queue_size: 5     # a node setting, ignored\n";
+  }
+  Params p;
+  std::string err;
+  ASSERT_TRUE(loadParamsYaml(path, p, &err)) << err;
+  EXPECT_EQ(p.tau_c, 120);
+  EXPECT_FALSE(p.use_depth);
+  EXPECT_EQ(p.depth_term, DepthTerm::kFarHigh);
+  EXPECT_EQ(p.plane_fit, PlaneFit::kLeastSquares);
+  EXPECT_DOUBLE_EQ(p.alpha, 0.35);
+  EXPECT_EQ(p.gap_steps, Params::improved().gap_steps);  // from the preset
+  {
+    std::ofstream out(path);
+    out << "tau_c: lots\n";
+  }
+  Params q;
+  EXPECT_FALSE(loadParamsYaml(path, q, &err));
+  EXPECT_NE(err.find("tau_c"), std::string::npos);
+  EXPECT_EQ(q.tau_c, Params().tau_c);
+  EXPECT_FALSE(loadParamsYaml("/nonexistent/file.yaml", q, &err));
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
