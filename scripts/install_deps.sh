@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake git
   catkin catkin-lint ros-base-dev python3-catkin-pkg
-  libnodeletlib-dev libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libnodeletlib-dev libnodeletlib-tools libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libimage-transport-dev image-transport-tools libcv-bridge-dev python3-cv-bridge
   libmessage-filters-dev libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev python3-tf2-ros
   libdiagnostic-updater-dev libcamera-calibration-parsers-dev libvisualization-msgs-dev
