@@ -70,7 +70,7 @@ struct Params {
   bool ego_lane_seeds = false;    ///< left seed left of the principal point, right seed right of it
   bool road_gate = false;         ///< keep only matches whose normal is road-like (|n.O_y| >= road_gate_cos)
   double road_gate_cos = 0.9;     ///< cosine threshold of road_gate
-  double plane_gate = 0.0;        ///< >0: drop marker points farther than this (m) from the previous plane
+  double plane_gate = 0.0;        ///< >0: ignore matches and points farther than this (m) from the previous plane
   int fill_depth_holes = 0;       ///< >0: fill invalid depth from valid neighbours along rows up to this many px
   double plane_smoothing = 0.0;   ///< temporal filter weight of the previous plane in [0, 1)
   bool snap_to_plane = false;     ///< marker points = their pixel rays met with the lane plane

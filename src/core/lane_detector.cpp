@@ -203,7 +203,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   // 5. G and R
   if (p.use_depth) {
     geometricMap(points_, normals_, p, roi_rows, geometric_);
-    if (p.road_gate) applyRoadGate(roi_rows);
+    if (p.road_gate || (p.plane_gate > 0.0 && previous_plane_.valid)) applyRoadGate(roi_rows);
     fuseResponse(response_left_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_left_);
     fuseResponse(response_right_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_right_);
   } else if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
@@ -254,18 +254,29 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
 }
 
 void LaneDetector::applyRoadGate(const cv::Range& rows) {
-  // Where the surface normal is known and not road-like, the match cannot be a road marking:
-  // its responses are removed from both maps (a named option, off in the paper mode).
+  // A match whose surface is known not to be road cannot be a road marking: where the normal is
+  // not road-like (road_gate) or the point lies off the previous lane plane (plane_gate), the
+  // responses are removed from both maps. Named options, off in the paper mode.
+  const bool by_normal = params_.road_gate;
+  const bool by_plane = params_.plane_gate > 0.0 && previous_plane_.valid;
   const float ux = static_cast<float>(params_.up_x), uy = static_cast<float>(params_.up_y),
               uz = static_cast<float>(params_.up_z);
   const float min_cos = static_cast<float>(params_.road_gate_cos);
+  const Eigen::Vector3f pn = previous_plane_.normal.cast<float>();
+  const float pd = static_cast<float>(previous_plane_.distance);
+  const float max_off = static_cast<float>(params_.plane_gate);
   for (int y = rows.start; y < rows.end; ++y) {
     const float* n = normals_.ptr<float>(y);
+    const float* q = points_.ptr<float>(y);
     float* ml = response_left_.ptr<float>(y);
     float* mr = response_right_.ptr<float>(y);
-    for (int x = 0; x < proc_size_.width; ++x, n += 3) {
-      if (std::isnan(n[0])) continue;
-      if (std::fabs(n[0] * ux + n[1] * uy + n[2] * uz) < min_cos) ml[x] = mr[x] = 0.f;
+    for (int x = 0; x < proc_size_.width; ++x, n += 3, q += 3) {
+      bool off_road = false;
+      if (by_normal && !std::isnan(n[0]))
+        off_road = std::fabs(n[0] * ux + n[1] * uy + n[2] * uz) < min_cos;
+      if (by_plane && !off_road && !std::isnan(q[2]))
+        off_road = std::fabs(pn.x() * q[0] + pn.y() * q[1] + pn.z() * q[2] + pd) > max_off;
+      if (off_road) ml[x] = mr[x] = 0.f;
     }
   }
 }
