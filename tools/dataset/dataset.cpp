@@ -1,0 +1,189 @@
+#include "rgbd_lane_detector_tools/dataset/dataset.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include <camera_calibration_parsers/parse.h>
+#include <sensor_msgs/CameraInfo.h>
+
+#include "readers_internal.h"
+
+namespace rgbd_lane_detector {
+namespace tools {
+namespace fs = std::filesystem;
+
+Frame DatasetFrame::toFrame() const {
+  Frame f;
+  f.colour = colour;
+  f.format = format;
+  f.depth = depth;
+  f.depth_scale = depth_scale;
+  f.intrinsics = intrinsics;
+  return f;
+}
+
+std::string detectDatasetType(const std::string& path) {
+  std::error_code ec;
+  const fs::path p(path);
+  if (fs::is_regular_file(p, ec)) return p.extension() == ".bag" ? "bag" : "";
+  if (!fs::is_directory(p, ec)) return "";
+  if (fs::is_directory(p / "RGB/Stereo_Left/Omni_F", ec)) return "synthia";
+  if (fs::exists(p / "associations.txt", ec) ||
+      (fs::exists(p / "rgb.txt", ec) && fs::exists(p / "depth.txt", ec)))
+    return "tum";
+  bool depth_frames = false;
+  for (const auto& e : fs::directory_iterator(p, ec)) {
+    const std::string n = e.path().filename().string();
+    auto ends = [&n](const std::string& s) {
+      return n.size() > s.size() && n.compare(n.size() - s.size(), s.size(), s) == 0;
+    };
+    if (ends("_disparity.png")) return "kitti";
+    if (ends("_depth.png")) depth_frames = true;
+  }
+  if (fs::is_directory(p / "image_2", ec) &&
+      (fs::is_directory(p / "disp_occ_0", ec) || fs::is_directory(p / "disp_noc_0", ec)))
+    return "kitti";
+  return depth_frames ? "tum_frames" : "";
+}
+
+std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::string& error) {
+  std::error_code ec;
+  if (options.path.empty()) {
+    error = "no dataset path given";
+    return nullptr;
+  }
+  if (!fs::exists(options.path, ec)) {
+    error = "dataset not found: " + options.path;
+    return nullptr;
+  }
+  std::string type = options.type;
+  if (type.empty() || type == "auto") {
+    type = detectDatasetType(options.path);
+    if (type.empty()) {
+      error = "cannot tell the format of " + options.path +
+              " (expected a SYNTHIA-SEQS, TUM or KITTI folder, numbered N.png + N_depth.png "
+              "frames, or a .bag file); use --type";
+      return nullptr;
+    }
+  }
+  if (type == "synthia") return internal::openSynthia(options, error);
+  if (type == "tum") return internal::openTum(options, error);
+  if (type == "tum_frames") return internal::openTumFrames(options, error);
+  if (type == "kitti") return internal::openKitti(options, error);
+  if (type == "bag") return internal::openBag(options, error);
+  error = "unknown dataset type '" + type + "' (auto, synthia, tum, tum_frames, kitti, bag)";
+  return nullptr;
+}
+
+bool readCameraInfoYaml(const std::string& path, Intrinsics& K, cv::Size* size,
+                        std::string& error) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    error = "camera_info file not found: " + path;
+    return false;
+  }
+  sensor_msgs::CameraInfo info;
+  std::string name;
+  if (!camera_calibration_parsers::readCalibration(path, name, info)) {
+    error = "cannot parse camera_info file " + path;
+    return false;
+  }
+  Intrinsics k;
+  if (info.P[0] > 0 && info.P[5] > 0) {
+    k = Intrinsics{info.P[0], info.P[5], info.P[2], info.P[6]};
+  } else {
+    k = Intrinsics{info.K[0], info.K[4], info.K[2], info.K[5]};
+  }
+  if (!k.valid()) {
+    error = "camera_info file " + path + " holds invalid intrinsics";
+    return false;
+  }
+  K = k;
+  if (size) *size = cv::Size(static_cast<int>(info.width), static_cast<int>(info.height));
+  return true;
+}
+
+bool readSynthiaIntrinsics(const std::string& path, Intrinsics& K, double* baseline,
+                           std::string& error) {
+  std::ifstream in(path);
+  if (!in) {
+    error = "cannot open intrinsics file " + path;
+    return false;
+  }
+  double f, cx, cy, b = std::numeric_limits<double>::quiet_NaN();
+  if (!(in >> f >> cx >> cy)) {
+    error = "intrinsics file " + path + " must hold f, cx, cy";
+    return false;
+  }
+  in >> b;
+  const Intrinsics k{f, f, cx, cy};
+  if (!k.valid()) {
+    error = "intrinsics file " + path + " holds invalid values";
+    return false;
+  }
+  K = k;
+  if (baseline) *baseline = b;
+  return true;
+}
+
+bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseline,
+                          std::string& error) {
+  std::ifstream in(path);
+  if (!in) {
+    error = "cannot open KITTI calibration " + path;
+    return false;
+  }
+  std::map<std::string, std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::istringstream ss(line.substr(colon + 1));
+    std::vector<double> v;
+    double x;
+    while (ss >> x) v.push_back(x);
+    rows[line.substr(0, colon)] = v;
+  }
+  const auto p2 = rows.find("P_rect_02"), p3 = rows.find("P_rect_03");
+  if (p2 == rows.end() || p2->second.size() != 12 || p3 == rows.end() || p3->second.size() != 12) {
+    error = "KITTI calibration " + path + " lacks P_rect_02 / P_rect_03";
+    return false;
+  }
+  const std::vector<double>& a = p2->second;
+  const Intrinsics k{a[0], a[5], a[2], a[6]};
+  const double b = (a[3] - p3->second[3]) / a[0];  // P(0,3) = -fx * (camera x offset)
+  if (!k.valid() || !(b > 0)) {
+    error = "KITTI calibration " + path + " holds invalid values";
+    return false;
+  }
+  K = k;
+  baseline = b;
+  return true;
+}
+
+void kittiDisparityToDepth(const cv::Mat& disparity, double fx, double baseline, cv::Mat& depth) {
+  CV_Assert(disparity.type() == CV_16UC1);
+  depth.create(disparity.size(), CV_32FC1);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const double fb = fx * baseline * 256.0;
+  for (int y = 0; y < disparity.rows; ++y) {
+    const uint16_t* d = disparity.ptr<uint16_t>(y);
+    float* z = depth.ptr<float>(y);
+    for (int x = 0; x < disparity.cols; ++x) z[x] = d[x] ? static_cast<float>(fb / d[x]) : nan;
+  }
+}
+
+namespace internal {
+
+bool applyCameraInfo(const DatasetOptions& o, Intrinsics& K, std::string& error) {
+  if (o.camera_info.empty()) return true;
+  return readCameraInfoYaml(o.camera_info, K, nullptr, error);
+}
+
+}  // namespace internal
+}  // namespace tools
+}  // namespace rgbd_lane_detector

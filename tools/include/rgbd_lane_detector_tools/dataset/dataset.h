@@ -1,0 +1,103 @@
+/**
+ * @file dataset.h
+ * @brief Readers of RGB-D sequences on disk: SYNTHIA-SEQS folders, TUM RGB-D folders, the
+ * KITTI stereo frames of ../shared/realdata, TUM-style numbered frames and rosbags.
+ *
+ * Every reader yields frames ready for LaneDetector::detect(): colour, registered depth
+ * (CV_16UC1 with a scale, or CV_32FC1 metres with NaN invalid) and intrinsics.
+ */
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+namespace tools {
+
+/// One RGB-D frame read from a dataset.
+struct DatasetFrame {
+  int index = 0;       ///< frame number in the source (file number when numeric, else position)
+  std::string name;    ///< file stem or bag stamp
+  double stamp = 0.0;  ///< seconds (source stamp, or index / rate)
+  cv::Mat colour;      ///< 8-bit colour
+  PixelFormat format = PixelFormat::kBgr8;
+  cv::Mat depth;  ///< CV_16UC1 (depth_scale m/unit) or CV_32FC1 metres (NaN / 0 invalid)
+  double depth_scale = 0.001;
+  Intrinsics intrinsics;
+  /// The frame as the detector's input (headers onto this frame's images).
+  Frame toFrame() const;
+};
+
+/// How to open a dataset.
+struct DatasetOptions {
+  std::string path;           ///< folder or .bag file
+  std::string type = "auto";  ///< auto, synthia, tum, tum_frames, kitti, bag
+  std::string camera_info;    ///< camera_info YAML overriding the intrinsics (optional)
+  double depth_scale = 0.0;   ///< metres per unit of 16-bit depth; 0: the format's default
+  std::string colour_topic = "rgb/image_rect_color";  ///< bag topics (suffix match)
+  std::string depth_topic = "depth_registered/image_rect";
+  std::string info_topic = "rgb/camera_info";
+  double sync_tolerance = 0.02;  ///< s, colour/depth pairing in bags and TUM lists
+  int first = 0;                 ///< skip frames before this position
+  int step = 1;                  ///< take every step-th frame
+  int max_frames = -1;           ///< stop after this many frames (-1: all)
+};
+
+/**
+ * @brief Sequential reader. next() returns frames in order; false at the end or on an error,
+ * which error() then describes (empty at a normal end).
+ */
+class DatasetReader {
+ public:
+  virtual ~DatasetReader() = default;
+  /// Format name ("synthia", "tum", "tum_frames", "kitti", "bag").
+  virtual const char* kind() const = 0;
+  /// Frames that next() will return (after first/step/max_frames); -1 when unknown.
+  virtual int size() const = 0;
+  /// Read the next frame.
+  virtual bool next(DatasetFrame& frame) = 0;
+  /// Lane ground truth file of the dataset (SYNTHIA GT/LANES), or empty.
+  virtual std::string groundTruthPath() const { return std::string(); }
+  const std::string& error() const { return error_; }
+
+ protected:
+  std::string error_;
+};
+
+/// Format of a path: "synthia", "tum", "tum_frames", "kitti", "bag", or "" when unknown.
+std::string detectDatasetType(const std::string& path);
+
+/**
+ * @brief Open a dataset.
+ * @return the reader, or null with @p error naming the problem (missing folder, no frames,
+ * unreadable intrinsics...).
+ */
+std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::string& error);
+
+/**
+ * @brief Intrinsics from a ROS camera_info YAML (camera_calibration_parsers); P is used when
+ * set (rectified images), else K.
+ */
+bool readCameraInfoYaml(const std::string& path, Intrinsics& K, cv::Size* size, std::string& error);
+
+/// Intrinsics from a SYNTHIA CameraParams/intrinsics.txt (f cx cy [baseline], any whitespace).
+bool readSynthiaIntrinsics(const std::string& path, Intrinsics& K, double* baseline,
+                           std::string& error);
+
+/// KITTI rectified intrinsics and colour baseline from calib_cam_to_cam.txt (P_rect_02/03).
+bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseline,
+                          std::string& error);
+
+/**
+ * @brief KITTI disparity PNG (uint16, disparity = value / 256, 0 = none) to depth.
+ * @param[out] depth CV_32FC1 Z = fx * B / disparity (NaN where no disparity).
+ */
+void kittiDisparityToDepth(const cv::Mat& disparity, double fx, double baseline, cv::Mat& depth);
+
+}  // namespace tools
+}  // namespace rgbd_lane_detector

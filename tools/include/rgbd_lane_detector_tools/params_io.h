@@ -1,0 +1,41 @@
+/**
+ * @file params_io.h
+ * @brief Detector parameters from YAML files and modes for the offline tools.
+ *
+ * Keys are the Params field names (= cfg/LaneDetector.cfg parameter names), at the top level
+ * of the file or one map deep (e.g. a node's private namespace). Booleans are true/false,
+ * enums take their cfg constant name or value (depth_term: near_high | far_high,
+ * plane_fit: three_point | least_squares).
+ */
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rgbd_lane_detector/params.h"
+
+namespace rgbd_lane_detector {
+namespace tools {
+
+/// Names of the detector modes: "paper" (Params::paper()) and "improved" (Params::improved()).
+bool paramsForMode(const std::string& mode, Params& params);
+
+/**
+ * @brief Set one parameter from text.
+ * @return false with @p error for an unknown key or a bad value.
+ */
+bool setParam(Params& params, const std::string& key, const std::string& value, std::string& error);
+
+/**
+ * @brief Override @p params with the keys of a YAML file.
+ * @param[out] warnings unknown keys (ignored), may be null.
+ * @return false with @p error when the file cannot be read or a value is invalid.
+ */
+bool loadParamsYaml(const std::string& path, Params& params, std::string& error,
+                    std::vector<std::string>* warnings = nullptr);
+
+/// Every parameter as "key: value" YAML lines (readable by loadParamsYaml()).
+std::string paramsToYaml(const Params& params);
+
+}  // namespace tools
+}  // namespace rgbd_lane_detector

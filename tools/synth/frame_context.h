@@ -1,0 +1,67 @@
+// Per-frame state of the renderer and the ray tracing / shading of one sample (private to the
+// synth library). Read-only while rows are rendered in parallel.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector_tools/synth/renderer.h"
+#include "scene_objects.h"
+
+namespace rgbd_lane_detector {
+namespace synth {
+
+/// What a ray hit first.
+struct Hit {
+  enum Kind { kNone, kGround, kBox, kRail, kRailPost } kind = kNone;
+  double lambda = 0.0;  ///< ray parameter = optical-frame depth z (ray z component is 1)
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< world
+  int box = -1;
+  BoxHit box_hit;
+  int rail_side = 0;        ///< -1 left, +1 right
+  double s = 0.0, t = 0.0;  ///< road coordinates of ground / rail hits
+};
+
+/// Everything one frame needs, computed once before the parallel loop.
+struct FrameContext {
+  const SceneSettings* settings = nullptr;
+  const RoadGeometry* road = nullptr;
+  int index = 0;
+  uint32_t seed = 0;
+  CameraPose pose;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  std::vector<Box> boxes;
+  Eigen::Vector3d sun = Eigen::Vector3d::UnitY();  ///< unit vector toward the sun (world)
+  cv::Vec3d ambient_light, sun_light;              ///< RGB
+  double gain = 1.0;                               ///< exposure of this frame
+  double rail_left = 0.0, rail_right = 0.0;        ///< lateral offsets of the rails
+
+  /// Prepare culling rectangles and shadow footprints of the boxes.
+  void prepare(int width, int height);
+  /// World direction of the ray through image point (u, v) (optical z component = 1).
+  Eigen::Vector3d rayDirection(double u, double v) const;
+  /// First hit of the ray through (u, v).
+  void trace(double u, double v, Hit& hit) const;
+  /// Linear RGB radiance (before exposure) of a hit seen along @p dir; @p footprint in m.
+  cv::Vec3d shade(const Hit& hit, const Eigen::Vector3d& dir, double footprint) const;
+  /// Class id of a hit.
+  uint8_t label(const Hit& hit) const;
+  /**
+   * @brief Identity of what a sample sees (class, object, sunlit or not): a pixel whose samples
+   * all share it is shaded once with the pixel's footprint (adaptive supersampling).
+   */
+  uint32_t sampleKey(const Hit& hit) const;
+
+ private:
+  cv::Vec3d sky(const Eigen::Vector3d& dir) const;
+  cv::Vec3d groundAlbedo(const Hit& hit, double footprint) const;
+  cv::Vec3d boxAlbedo(const Box& box, const BoxHit& h) const;
+  double sunVisibility(const Eigen::Vector3d& p, int self_box) const;
+  double canopyShadow(double x, double z, double t) const;
+};
+
+}  // namespace synth
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,233 @@
+#include "rgbd_lane_detector_tools/synth/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "frame_context.h"
+#include "rgbd_lane_detector_tools/synth/noise.h"
+#include "scene_objects.h"
+
+namespace rgbd_lane_detector {
+namespace synth {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+double smoothstep(double a, double b, double x) {
+  const double t = std::min(1.0, std::max(0.0, (x - a) / (b - a)));
+  return t * t * (3.0 - 2.0 * t);
+}
+
+// How far the camera is inside an overpass's shadow zone (0..1): drives the auto-exposure.
+double underOverpass(const SceneObjects& objects, const SceneSettings& s, double cam_s) {
+  std::vector<double> starts;
+  objects.overpassesNear(cam_s, 30.0, 30.0, starts);
+  double u = 0.0;
+  for (double s0 : starts) {
+    const double s1 = s0 + s.overpass_length;
+    double v = 0.0;
+    if (cam_s >= s0 && cam_s <= s1)
+      v = 1.0;
+    else if (cam_s < s0)
+      v = smoothstep(s0 - 25.0, s0, cam_s);
+    else
+      v = 1.0 - smoothstep(s1, s1 + 10.0, cam_s);
+    u = std::max(u, v);
+  }
+  return u;
+}
+
+}  // namespace
+
+Renderer::Renderer(const SceneSettings& settings)
+    : settings_(settings), road_(settings_), objects_(new SceneObjects(settings_, road_)) {}
+
+Renderer::~Renderer() = default;
+
+Intrinsics Renderer::intrinsics() const {
+  Intrinsics K;
+  K.fx = K.fy = settings_.focal_1280 * settings_.width / 1280.0;
+  K.cx = 0.5 * settings_.width;
+  K.cy = 0.5 * settings_.height;
+  return K;
+}
+
+CameraPose Renderer::pose(int index) const {
+  const SceneSettings& s = settings_;
+  CameraPose p;
+  p.s = s.start_s + s.speed * index / s.fps;
+  const double w = 2.0 * M_PI / s.drift_period;
+  p.t = s.drift_amplitude * std::sin(w * p.s);
+  const double dtds = s.drift_amplitude * w * std::cos(w * p.s);
+  p.yaw = road_.heading(p.s) + std::atan(dtds / (1.0 - p.t * road_.curvature()));
+  const double ww = 2.0 * M_PI / s.wobble_period;
+  p.pitch = (s.pitch_deg + s.pitch_wobble_deg * std::sin(ww * p.s)) * kDeg;
+  p.roll = (s.roll_deg + s.roll_wobble_deg * std::sin(ww * p.s / 1.37 + 1.0)) * kDeg;
+  const double height = s.camera_height + 0.02 * std::sin(ww * p.s / 0.61);
+  const Eigen::Vector2d g = road_.point(p.s, p.t);
+  p.position = Eigen::Vector3d(g.x(), height, g.y());
+  const double cy = std::cos(p.yaw), sy = std::sin(p.yaw);
+  const double cp = std::cos(p.pitch), sp = std::sin(p.pitch);
+  const double cr = std::cos(p.roll), sr = std::sin(p.roll);
+  Eigen::Matrix3d Ry, Rp, Rr;
+  Ry << cy, 0, sy, 0, 1, 0, -sy, 0, cy;
+  Rp << 1, 0, 0, 0, cp, -sp, 0, sp, cp;  // forward tilts down for positive pitch
+  Rr << cr, -sr, 0, sr, cr, 0, 0, 0, 1;
+  const Eigen::Matrix3d optical = Eigen::Vector3d(1, -1, 1).asDiagonal();  // y down -> y up
+  p.R_wc = Ry * Rp * Rr * optical;
+  return p;
+}
+
+tools::FrameTruth Renderer::truth(int index) const {
+  const CameraPose p = pose(index);
+  const Eigen::Matrix3d Rt = p.R_wc.transpose();
+  tools::FrameTruth f;
+  f.index = index;
+  f.normal = (Rt * Eigen::Vector3d::UnitY()).normalized();
+  f.distance = p.position.y();
+  const auto sample = [&](int marker, std::vector<Eigen::Vector3d>& line) {
+    line.clear();
+    if (marker < 0) return;
+    const double offset = road_.markers()[marker].offset;
+    const int n = static_cast<int>(std::floor(
+        (settings_.gt_max_distance - settings_.gt_min_distance) / settings_.gt_step + 1e-9));
+    for (int k = 0; k <= n; ++k) {
+      const double s = p.s + settings_.gt_min_distance + k * settings_.gt_step;
+      const Eigen::Vector2d g = road_.point(s, offset);
+      line.push_back(Rt * (Eigen::Vector3d(g.x(), 0.0, g.y()) - p.position));
+    }
+  };
+  sample(road_.egoLeft(), f.left);
+  sample(road_.egoRight(), f.right);
+  f.has_lane = !f.left.empty() && !f.right.empty();
+  return f;
+}
+
+void Renderer::render(int index, RenderedFrame& out) const {
+  const SceneSettings& s = settings_;
+  const Intrinsics K = intrinsics();
+  FrameContext ctx;
+  ctx.settings = &settings_;
+  ctx.road = &road_;
+  ctx.index = index;
+  ctx.seed = hashKeys(static_cast<uint32_t>(s.seed), 0x5eedU);
+  ctx.pose = pose(index);
+  ctx.fx = K.fx;
+  ctx.fy = K.fy;
+  ctx.cx = K.cx;
+  ctx.cy = K.cy;
+  const double el = s.sun_elevation_deg * kDeg, az = s.sun_azimuth_deg * kDeg;
+  ctx.sun = Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  ctx.ambient_light = cv::Vec3d(0.95, 0.98, 1.05) * s.ambient;
+  ctx.sun_light = cv::Vec3d(1.05, 1.0, 0.92) * s.direct;
+  ctx.gain = s.exposure *
+             (1.0 + s.exposure_flicker * std::sin(2.0 * M_PI * index / s.flicker_period)) *
+             (1.0 + s.exposure_adapt * underOverpass(*objects_, s, ctx.pose.s));
+  ctx.rail_left = road_.leftEdge() - s.shoulder_width;
+  ctx.rail_right = road_.rightEdge() + s.shoulder_width;
+  objects_->boxesAt(index, ctx.pose.s, ctx.boxes);
+  ctx.prepare(s.width, s.height);
+
+  out.bgr.create(s.height, s.width, CV_8UC3);
+  out.depth_true.create(s.height, s.width, CV_32FC1);
+  out.labels.create(s.height, s.width, CV_8UC1);
+  const int ss = s.supersample;
+  const uint32_t noise_seed = hashKeys(static_cast<uint32_t>(s.seed), 0xc0105U);
+  // footprint (m) of a sample spanning 1/n pixel: across the ray, widened at grazing angles
+  const auto footprint = [&ctx](const Hit& hit, const Eigen::Vector3d& d, int n) {
+    const double norm = d.norm();
+    const double grazing = std::max(0.02, std::fabs(d.y()) / norm);
+    return hit.lambda * norm / (ctx.fx * n) / std::sqrt(grazing);
+  };
+  cv::parallel_for_(cv::Range(0, s.height), [&](const cv::Range& rows) {
+    Hit centre;
+    std::vector<Hit> hits(ss * ss);
+    for (int y = rows.start; y < rows.end; ++y) {
+      cv::Vec3b* bgr = out.bgr.ptr<cv::Vec3b>(y);
+      float* depth = out.depth_true.ptr<float>(y);
+      uint8_t* label = out.labels.ptr<uint8_t>(y);
+      for (int x = 0; x < s.width; ++x) {
+        ctx.trace(x, y, centre);
+        depth[x] = centre.kind == Hit::kNone ? 0.f : static_cast<float>(centre.lambda);
+        label[x] = ctx.label(centre);
+        // adaptive supersampling: shade once when every sample sees the same thing
+        const uint32_t key = ctx.sampleKey(centre);
+        bool uniform = true;
+        for (int j = 0; j < ss; ++j) {
+          for (int i = 0; i < ss; ++i) {
+            Hit& h = hits[j * ss + i];
+            ctx.trace(x + (i + 0.5) / ss - 0.5, y + (j + 0.5) / ss - 0.5, h);
+            uniform = uniform && ctx.sampleKey(h) == key;
+          }
+        }
+        cv::Vec3d sum(0, 0, 0);
+        if (uniform) {
+          const Eigen::Vector3d d = ctx.rayDirection(x, y);
+          sum = ctx.shade(centre, d, footprint(centre, d, 1)) * static_cast<double>(ss * ss);
+        } else {
+          for (int j = 0; j < ss; ++j) {
+            for (int i = 0; i < ss; ++i) {
+              const Eigen::Vector3d d =
+                  ctx.rayDirection(x + (i + 0.5) / ss - 0.5, y + (j + 0.5) / ss - 0.5);
+              const Hit& h = hits[j * ss + i];
+              sum += ctx.shade(h, d, footprint(h, d, ss));
+            }
+          }
+        }
+        const double scale = 255.0 * ctx.gain / (ss * ss);
+        const uint32_t pix = static_cast<uint32_t>(y * s.width + x);
+        for (int c = 0; c < 3; ++c) {
+          double v = sum[c] * scale;
+          if (s.colour_noise > 0)
+            v += s.colour_noise * hashGaussian(noise_seed, static_cast<uint32_t>(index), pix, c);
+          bgr[x][2 - c] = cv::saturate_cast<uint8_t>(v);  // RGB -> BGR
+        }
+      }
+    }
+  });
+
+  // depth sensor model on the exact depth
+  out.depth_true.copyTo(out.depth);
+  const uint32_t dseed =
+      hashKeys(static_cast<uint32_t>(s.seed), 0xde97U, static_cast<uint32_t>(index));
+  double hole_threshold = 2.0;
+  cv::Mat holes;
+  if (s.depth_holes > 0) {
+    holes.create(s.height, s.width, CV_32FC1);
+    const double ox = 1000.0 * hashUniform(dseed, 1), oy = 1000.0 * hashUniform(dseed, 2);
+    for (int y = 0; y < s.height; ++y) {
+      float* h = holes.ptr<float>(y);
+      for (int x = 0; x < s.width; ++x)
+        h[x] = static_cast<float>(fbm((x + ox) / 1.6, y + oy, 40.0, 3, 1.0, dseed));
+    }
+    // threshold at the quantile that gives the requested coverage
+    std::vector<float> sample;
+    for (int y = 0; y < s.height; y += 3)
+      for (int x = 0; x < s.width; x += 3) sample.push_back(holes.at<float>(y, x));
+    const size_t k =
+        std::min(sample.size() - 1, static_cast<size_t>((1.0 - s.depth_holes) * sample.size()));
+    std::nth_element(sample.begin(), sample.begin() + k, sample.end());
+    hole_threshold = sample[k];
+  }
+  for (int y = 0; y < s.height; ++y) {
+    float* d = out.depth.ptr<float>(y);
+    const float* h = holes.empty() ? nullptr : holes.ptr<float>(y);
+    for (int x = 0; x < s.width; ++x) {
+      if (d[x] <= 0.f) continue;
+      const uint32_t pix = static_cast<uint32_t>(y * s.width + x);
+      if (d[x] > s.depth_range || (h && h[x] >= hole_threshold) ||
+          (s.depth_dropout > 0 && hashUniform(dseed, pix, 3) < s.depth_dropout)) {
+        d[x] = 0.f;
+        continue;
+      }
+      if (s.depth_noise_k > 0) {
+        const double z = d[x];
+        d[x] = static_cast<float>(
+            std::max(0.01, z + s.depth_noise_k * z * z * hashGaussian(dseed, pix, 4)));
+      }
+    }
+  }
+}
+
+}  // namespace synth
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,396 @@
+#include "rgbd_lane_detector_tools/synth/scenario.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace rgbd_lane_detector {
+namespace synth {
+namespace {
+
+using T = SettingField::Type;
+
+bool parseDouble(const std::string& text, double& out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  out = std::strtod(text.c_str(), &end);
+  return end && *end == '\0' && std::isfinite(out);
+}
+
+bool parseInt(const std::string& text, int& out) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (!end || *end != '\0' || v < -2147483647L || v > 2147483647L) return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
+bool parseBool(const std::string& text, bool& out) {
+  if (text == "true" || text == "1" || text == "on" || text == "yes") {
+    out = true;
+    return true;
+  }
+  if (text == "false" || text == "0" || text == "off" || text == "no") {
+    out = false;
+    return true;
+  }
+  return false;
+}
+
+bool parseColour(const std::string& text, cv::Vec3d& out) {
+  std::stringstream ss(text);
+  std::string item;
+  cv::Vec3d c;
+  for (int i = 0; i < 3; ++i) {
+    if (!std::getline(ss, item, ',') || !parseDouble(item, c[i])) return false;
+  }
+  if (std::getline(ss, item, ',')) return false;
+  out = c;
+  return true;
+}
+
+void applyCloudyLight(SceneSettings& s) {
+  s.ambient = 0.85;
+  s.direct = 0.10;
+  s.shadows = false;
+  s.sky_horizon = cv::Vec3d(0.78, 0.79, 0.80);
+  s.sky_zenith = cv::Vec3d(0.58, 0.60, 0.64);
+  s.cloud_cover = 0.9;
+}
+
+}  // namespace
+
+std::vector<SettingField> settingFields(SceneSettings& s) {
+  return {
+      {"scenario", T::kString, &s.scenario, "preset the settings started from"},
+      {"sensor", T::kString, &s.sensor, "depth sensor model (clean, kinect, sparse)"},
+      {"seed", T::kInt, &s.seed, "random seed"},
+      {"frames", T::kInt, &s.frames, "number of frames"},
+      {"width", T::kInt, &s.width, "image width (px)"},
+      {"height", T::kInt, &s.height, "image height (px)"},
+      {"focal_1280", T::kDouble, &s.focal_1280, "focal length at 1280 px width (px)"},
+      {"baseline", T::kDouble, &s.baseline, "stereo baseline in intrinsics.txt (m)"},
+      {"fps", T::kDouble, &s.fps, "frame rate (Hz)"},
+      {"supersample", T::kInt, &s.supersample, "colour samples per pixel side"},
+      {"camera_height", T::kDouble, &s.camera_height, "camera above the road (m)"},
+      {"pitch_deg", T::kDouble, &s.pitch_deg, "camera pitch, positive down (deg)"},
+      {"roll_deg", T::kDouble, &s.roll_deg, "camera roll (deg)"},
+      {"pitch_wobble_deg", T::kDouble, &s.pitch_wobble_deg, "pitch oscillation amplitude (deg)"},
+      {"roll_wobble_deg", T::kDouble, &s.roll_wobble_deg, "roll oscillation amplitude (deg)"},
+      {"wobble_period", T::kDouble, &s.wobble_period, "distance per wobble cycle (m)"},
+      {"speed", T::kDouble, &s.speed, "camera speed (m/s)"},
+      {"start_s", T::kDouble, &s.start_s, "road position of frame 0 (m)"},
+      {"drift_amplitude", T::kDouble, &s.drift_amplitude, "lateral drift amplitude (m)"},
+      {"drift_period", T::kDouble, &s.drift_period, "distance per drift cycle (m)"},
+      {"curvature", T::kDouble, &s.curvature, "road curvature, positive right (1/m)"},
+      {"lane_width", T::kDouble, &s.lane_width, "lane width (m)"},
+      {"lanes_left", T::kInt, &s.lanes_left, "lanes left of the ego lane"},
+      {"lanes_right", T::kInt, &s.lanes_right, "lanes right of the ego lane"},
+      {"shoulder_width", T::kDouble, &s.shoulder_width, "paved shoulder width (m)"},
+      {"marker_width", T::kDouble, &s.marker_width, "lane marker width (m)"},
+      {"edge_marker_width", T::kDouble, &s.edge_marker_width, "road edge line width (m)"},
+      {"dash_length", T::kDouble, &s.dash_length, "dash length (m)"},
+      {"dash_gap", T::kDouble, &s.dash_gap, "gap between dashes (m)"},
+      {"ego_left", T::kMarker, &s.ego_left, "ego lane left line (none, solid, dashed)"},
+      {"ego_right", T::kMarker, &s.ego_right, "ego lane right line"},
+      {"separators", T::kMarker, &s.separators, "lines between the other lanes"},
+      {"edges", T::kMarker, &s.edges, "outer road edge lines"},
+      {"asphalt_albedo", T::kDouble, &s.asphalt_albedo, "mean asphalt albedo"},
+      {"asphalt_contrast", T::kDouble, &s.asphalt_contrast, "asphalt texture contrast"},
+      {"crack_density", T::kDouble, &s.crack_density, "crack density (0..1)"},
+      {"patch_density", T::kDouble, &s.patch_density, "repaired patches per lane cell"},
+      {"paint_albedo", T::kDouble, &s.paint_albedo, "marker paint albedo"},
+      {"paint_wear", T::kDouble, &s.paint_wear, "worn paint fraction (0..1)"},
+      {"sun_elevation_deg", T::kDouble, &s.sun_elevation_deg, "sun elevation (deg)"},
+      {"sun_azimuth_deg", T::kDouble, &s.sun_azimuth_deg, "sun azimuth from the road (deg)"},
+      {"ambient", T::kDouble, &s.ambient, "ambient light"},
+      {"direct", T::kDouble, &s.direct, "direct sun light"},
+      {"shadows", T::kBool, &s.shadows, "cast shadows"},
+      {"sky_horizon", T::kColour, &s.sky_horizon, "sky colour at the horizon (r,g,b)"},
+      {"sky_zenith", T::kColour, &s.sky_zenith, "sky colour at the zenith (r,g,b)"},
+      {"cloud_cover", T::kDouble, &s.cloud_cover, "cloud cover (0..1)"},
+      {"fog_visibility", T::kDouble, &s.fog_visibility, "fog visibility (m, 0 = none)"},
+      {"fog_colour", T::kColour, &s.fog_colour, "fog colour (r,g,b)"},
+      {"exposure", T::kDouble, &s.exposure, "exposure gain"},
+      {"exposure_flicker", T::kDouble, &s.exposure_flicker, "exposure oscillation amplitude"},
+      {"flicker_period", T::kDouble, &s.flicker_period, "exposure oscillation period (frames)"},
+      {"overpass_period", T::kDouble, &s.overpass_period, "distance between overpasses (m)"},
+      {"overpass_length", T::kDouble, &s.overpass_length, "overpass deck length (m)"},
+      {"overpass_clearance", T::kDouble, &s.overpass_clearance, "overpass clearance (m)"},
+      {"exposure_adapt", T::kDouble, &s.exposure_adapt, "auto-exposure gain under overpasses"},
+      {"pole_period", T::kDouble, &s.pole_period, "distance between lamp poles (m)"},
+      {"canopy_shadows", T::kDouble, &s.canopy_shadows, "tree shadow coverage (0..1)"},
+      {"vehicles", T::kInt, &s.vehicles, "cars in the other lanes"},
+      {"lead_vehicle", T::kBool, &s.lead_vehicle, "car ahead in the ego lane"},
+      {"trucks", T::kInt, &s.trucks, "trucks in the other lanes"},
+      {"truck_stripes", T::kBool, &s.truck_stripes, "white stripes on trucks"},
+      {"guard_rails", T::kBool, &s.guard_rails, "white guard rails on both sides"},
+      {"rail_height", T::kDouble, &s.rail_height, "guard rail top (m)"},
+      {"colour_noise", T::kDouble, &s.colour_noise, "colour noise sigma (0-255)"},
+      {"depth_noise_k", T::kDouble, &s.depth_noise_k, "depth noise sigma = k z^2 (1/m)"},
+      {"depth_range", T::kDouble, &s.depth_range, "depth range limit (m)"},
+      {"depth_dropout", T::kDouble, &s.depth_dropout, "speckle dropout probability"},
+      {"depth_holes", T::kDouble, &s.depth_holes, "invalid blob coverage (0..1)"},
+      {"max_range", T::kDouble, &s.max_range, "render distance (m)"},
+      {"gt_min_distance", T::kDouble, &s.gt_min_distance, "first ground-truth sample ahead (m)"},
+      {"gt_max_distance", T::kDouble, &s.gt_max_distance, "last ground-truth sample ahead (m)"},
+      {"gt_step", T::kDouble, &s.gt_step, "ground-truth sample spacing (m)"},
+  };
+}
+
+const std::vector<std::string>& scenarioNames() {
+  static const std::vector<std::string> names = {
+      "summer",      "cloudy", "fog", "overpass", "solid", "dashed", "shadows", "lane_like_objects",
+      "no_markings", "curve"};
+  return names;
+}
+
+const std::vector<std::string>& sensorNames() {
+  static const std::vector<std::string> names = {"clean", "kinect", "sparse"};
+  return names;
+}
+
+bool applyScenario(const std::string& name, SceneSettings& s) {
+  bool known = false;
+  for (const auto& n : scenarioNames()) known = known || n == name;
+  if (!known) return false;
+  SceneSettings p;  // defaults: the summer preset
+  p.seed = s.seed;
+  p.frames = s.frames;
+  p.width = s.width;
+  p.height = s.height;
+  p.sensor = s.sensor;
+  p.scenario = name;
+  if (name == "cloudy") {
+    applyCloudyLight(p);
+  } else if (name == "fog") {
+    applyCloudyLight(p);
+    p.fog_visibility = 40.0;
+  } else if (name == "overpass") {
+    p.overpass_period = 110.0;
+    p.exposure_adapt = 0.7;
+    p.exposure_flicker = 0.1;
+    p.sun_elevation_deg = 60.0;
+  } else if (name == "solid") {
+    p.lanes_right = 1;
+    p.ego_left = p.ego_right = p.separators = MarkerKind::kSolid;
+  } else if (name == "dashed") {
+    p.lanes_right = 1;
+    p.ego_left = p.ego_right = MarkerKind::kDashed;
+  } else if (name == "shadows") {
+    p.lanes_right = 1;
+    p.sun_elevation_deg = 22.0;
+    p.sun_azimuth_deg = 70.0;
+    p.ambient = 0.45;
+    p.direct = 0.75;
+    p.vehicles = 5;
+    p.trucks = 2;
+    p.pole_period = 35.0;
+    p.canopy_shadows = 0.5;
+  } else if (name == "lane_like_objects") {
+    p.lanes_right = 1;
+    p.vehicles = 1;
+    p.trucks = 4;
+    p.truck_stripes = true;
+    p.guard_rails = true;
+  } else if (name == "no_markings") {
+    p.ego_left = p.ego_right = p.separators = p.edges = MarkerKind::kNone;
+  } else if (name == "curve") {
+    p.curvature = 1.0 / 300.0;
+  }
+  s = p;
+  applySensor(s.sensor, s);
+  return true;
+}
+
+bool applySensor(const std::string& name, SceneSettings& s) {
+  if (name == "clean") {
+    s.depth_noise_k = 0.0;
+    s.depth_range = 200.0;
+    s.depth_dropout = 0.0;
+    s.depth_holes = 0.0;
+  } else if (name == "kinect") {
+    // Kinect-like noise model with a road-usable range limit (a real Kinect stops at 8-10 m).
+    s.depth_noise_k = 0.0015;
+    s.depth_range = 20.0;
+    s.depth_dropout = 0.01;
+    s.depth_holes = 0.0;
+  } else if (name == "sparse") {
+    // RealSense R200-like active stereo: blob holes, speckle dropout, noisy, short range.
+    s.depth_noise_k = 0.003;
+    s.depth_range = 18.0;
+    s.depth_dropout = 0.3;
+    s.depth_holes = 0.35;
+  } else {
+    return false;
+  }
+  s.sensor = name;
+  return true;
+}
+
+bool parseMarkerKind(const std::string& text, MarkerKind& kind) {
+  if (text == "none")
+    kind = MarkerKind::kNone;
+  else if (text == "solid")
+    kind = MarkerKind::kSolid;
+  else if (text == "dashed")
+    kind = MarkerKind::kDashed;
+  else
+    return false;
+  return true;
+}
+
+const char* markerKindName(MarkerKind kind) {
+  switch (kind) {
+    case MarkerKind::kNone:
+      return "none";
+    case MarkerKind::kSolid:
+      return "solid";
+    case MarkerKind::kDashed:
+      return "dashed";
+  }
+  return "none";
+}
+
+bool setSetting(SceneSettings& s, const std::string& key, const std::string& value,
+                std::string& error) {
+  for (const SettingField& f : settingFields(s)) {
+    if (key != f.name) continue;
+    bool ok = false;
+    switch (f.type) {
+      case T::kInt:
+        ok = parseInt(value, *static_cast<int*>(f.value));
+        break;
+      case T::kDouble:
+        ok = parseDouble(value, *static_cast<double*>(f.value));
+        break;
+      case T::kBool:
+        ok = parseBool(value, *static_cast<bool*>(f.value));
+        break;
+      case T::kString:
+        *static_cast<std::string*>(f.value) = value;
+        ok = true;
+        break;
+      case T::kColour:
+        ok = parseColour(value, *static_cast<cv::Vec3d*>(f.value));
+        break;
+      case T::kMarker:
+        ok = parseMarkerKind(value, *static_cast<MarkerKind*>(f.value));
+        break;
+    }
+    if (!ok) error = "invalid value '" + value + "' for setting '" + key + "'";
+    return ok;
+  }
+  error = "unknown setting '" + key + "'";
+  return false;
+}
+
+bool validateSettings(const SceneSettings& s, std::string& error) {
+  auto fail = [&error](const std::string& m) {
+    error = m;
+    return false;
+  };
+  if (s.width < 32 || s.height < 32 || s.width > 8192 || s.height > 8192)
+    return fail("image size must be between 32 and 8192 px");
+  if (s.frames < 1) return fail("frames must be >= 1");
+  if (s.supersample < 1 || s.supersample > 4) return fail("supersample must be 1..4");
+  if (!(s.focal_1280 > 0) || !(s.fps > 0)) return fail("focal_1280 and fps must be > 0");
+  if (!(s.camera_height > 0.1)) return fail("camera_height must be > 0.1 m");
+  if (std::fabs(s.pitch_deg) > 45 || std::fabs(s.roll_deg) > 45)
+    return fail("pitch and roll must be within 45 deg");
+  if (!(s.lane_width > 1.0) || s.lanes_left < 0 || s.lanes_right < 0 || s.lanes_left > 5 ||
+      s.lanes_right > 5)
+    return fail("lane_width must be > 1 m and lanes_left/right 0..5");
+  if (!(s.marker_width > 0.01) || !(s.edge_marker_width > 0.01))
+    return fail("marker widths must be > 0.01 m");
+  if (!(s.dash_length > 0.1) || !(s.dash_gap >= 0)) return fail("dash_length/gap invalid");
+  if (std::fabs(s.curvature) > 0.02) return fail("|curvature| must be <= 0.02 1/m (R >= 50 m)");
+  if (!(s.wobble_period > 0) || !(s.drift_period > 0)) return fail("periods must be > 0");
+  if (!(s.max_range > 10) || !(s.depth_range > 0)) return fail("ranges must be positive");
+  if (s.fog_visibility < 0 || s.overpass_period < 0 || s.pole_period < 0)
+    return fail("fog_visibility, overpass_period, pole_period must be >= 0");
+  if (s.overpass_period > 0 && s.overpass_period < s.overpass_length + 10)
+    return fail("overpass_period must exceed overpass_length + 10 m");
+  if (s.vehicles < 0 || s.trucks < 0 || s.vehicles + s.trucks > 40)
+    return fail("vehicles + trucks must be 0..40");
+  if (!(s.gt_step > 0) || !(s.gt_max_distance > s.gt_min_distance))
+    return fail("ground-truth sampling invalid");
+  return true;
+}
+
+std::string settingsToJson(const SceneSettings& settings) {
+  SceneSettings s = settings;  // the field table needs mutable pointers
+  cv::FileStorage fs(
+      ".json", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_JSON);
+  fs << "generator_version" << kGeneratorVersion;
+  for (const SettingField& f : settingFields(s)) {
+    switch (f.type) {
+      case T::kInt:
+        fs << f.name << *static_cast<int*>(f.value);
+        break;
+      case T::kDouble:
+        fs << f.name << *static_cast<double*>(f.value);
+        break;
+      case T::kBool:
+        fs << f.name << static_cast<int>(*static_cast<bool*>(f.value));
+        break;
+      case T::kString:
+        fs << f.name << *static_cast<std::string*>(f.value);
+        break;
+      case T::kColour: {
+        const cv::Vec3d& c = *static_cast<cv::Vec3d*>(f.value);
+        fs << f.name << "[" << c[0] << c[1] << c[2] << "]";
+        break;
+      }
+      case T::kMarker:
+        fs << f.name << std::string(markerKindName(*static_cast<MarkerKind*>(f.value)));
+        break;
+    }
+  }
+  return fs.releaseAndGetString();
+}
+
+bool readSettingsJson(const std::string& path, SceneSettings& s, std::string& error) {
+  cv::FileStorage fs;
+  try {
+    if (!fs.open(path, cv::FileStorage::READ)) {
+      error = "cannot open " + path;
+      return false;
+    }
+  } catch (const cv::Exception& e) {
+    error = "cannot parse " + path + ": " + e.what();
+    return false;
+  }
+  for (const SettingField& f : settingFields(s)) {
+    const cv::FileNode n = fs[f.name];
+    if (n.empty()) continue;
+    switch (f.type) {
+      case T::kInt:
+        *static_cast<int*>(f.value) = static_cast<int>(n);
+        break;
+      case T::kDouble:
+        *static_cast<double*>(f.value) = static_cast<double>(n);
+        break;
+      case T::kBool:
+        *static_cast<bool*>(f.value) = static_cast<int>(n) != 0;
+        break;
+      case T::kString:
+        *static_cast<std::string*>(f.value) = static_cast<std::string>(n);
+        break;
+      case T::kColour:
+        if (n.isSeq() && n.size() == 3) {
+          cv::Vec3d& c = *static_cast<cv::Vec3d*>(f.value);
+          for (int i = 0; i < 3; ++i) c[i] = static_cast<double>(n[i]);
+        }
+        break;
+      case T::kMarker:
+        parseMarkerKind(static_cast<std::string>(n), *static_cast<MarkerKind*>(f.value));
+        break;
+    }
+  }
+  return true;
+}
+
+}  // namespace synth
+}  // namespace rgbd_lane_detector
