@@ -123,5 +123,48 @@ TEST(NccMatcher, RegionSmallerThanTemplateFailsCleanly) {
   EXPECT_FALSE(m.match(img, cv::Rect(-50, -50, 10, 10), l, r, ml, mr));
 }
 
+// The matcher sums a template along its slope p/q: check the rasterisation keeps that period,
+// stays near the requested angle, and that the matcher equals matchTemplate for every slope
+// denominator, size parity and row width (vector bodies and scalar tails).
+TEST(LineTemplate, SlopeIsPeriodicAndCloseToTheRequestedAngle) {
+  for (int deg = 10; deg <= 170; ++deg) {
+    const double a = deg * M_PI / 180.0;
+    LineTemplate t;
+    makeLineTemplate(32, 10, a, t);
+    ASSERT_GE(t.slope_q, 1);
+    ASSERT_LE(t.slope_q, kMaxSlopeDenominator);
+    const double from_h = std::min(deg, 180 - deg);
+    if (from_h <= 80) {
+      EXPECT_LT(std::fabs(t.drawn_angle - a), 2.0 * M_PI / 180.0) << deg;
+    }
+    for (int r = 0; r + t.slope_q < 32; ++r) {
+      const int b0 = t.run_begin[r], b1 = t.run_begin[r + t.slope_q];
+      if (b0 > 0 && b0 < 32 && b1 > 0 && b1 < 32) {
+        EXPECT_EQ(b1, b0 + t.slope_p) << deg;
+      }
+    }
+  }
+}
+
+TEST(NccMatcher, EqualsMatchTemplateForEverySlope) {
+  cv::RNG rng(7);
+  cv::Mat img(150, 211, CV_8UC1);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  // sparse image (half-binary like): mostly zeros, flat and empty windows
+  cv::Mat sparse = img.clone();
+  sparse.setTo(0, img < 200);
+  for (int q = 1; q <= kMaxSlopeDenominator; ++q) {
+    for (int p : {-2 * q - 1, -q, -1, 1, q + 1, 3 * q}) {
+      const double angle = std::atan2(static_cast<double>(q), static_cast<double>(p));
+      for (int size : {17, 32}) {
+        SCOPED_TRACE(testing::Message() << "slope " << p << "/" << q << " size " << size);
+        expectMatchesReference(img, cv::Rect(3, 11, 203, 130), angle, M_PI - angle, size,
+                               size / 3);
+        expectMatchesReference(sparse, cv::Rect(0, 0, 211, 150), angle, angle, size, 5);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
