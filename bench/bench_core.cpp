@@ -1,0 +1,265 @@
+// Google Benchmark of the detector core against the straightforward OpenCV pipeline, on
+// generated road frames at 640x380 and 1280x760, single-threaded unless a name says otherwise.
+// scripts/bench.sh runs it and writes docs/PERFORMANCE.md from its JSON output.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <opencv2/core.hpp>
+
+#include "opencv_pipeline.h"
+#include "rgbd_lane_detector/depth_points.h"
+#include "rgbd_lane_detector/fals_normals.h"
+#include "rgbd_lane_detector/half_binary.h"
+#include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/response_map.h"
+#include "rgbd_lane_detector/template_matching.h"
+#include "road_frames.h"
+
+namespace rgbd_lane_detector {
+namespace bench {
+namespace {
+
+constexpr int kFrames = 8;
+
+// Frames and the detector's steady-state templates for one size, built once.
+struct Data {
+  int width = 0, height = 0;
+  std::vector<RoadFrame> frames;
+  Params params;
+  LineTemplate left, right;  ///< templates detect() uses after warm-up (adapted angles)
+  cv::Rect roi;
+};
+
+Data& data(int width) {
+  static std::map<int, std::unique_ptr<Data>> cache;
+  auto& d = cache[width];
+  if (d) return *d;
+  d = std::make_unique<Data>();
+  d->width = width;
+  d->height = width * 380 / 640;
+  d->frames.resize(kFrames);
+  for (int i = 0; i < kFrames; ++i) renderRoadFrame(d->width, d->height, i, d->frames[i]);
+  LaneDetector det(d->params);
+  Result r;
+  for (int i = 0; i < kFrames; ++i) det.detect(d->frames[i].frame(), r);
+  d->left = det.leftTemplate();
+  d->right = det.rightTemplate();
+  d->left.image = d->left.image.clone();
+  d->right.image = d->right.image.clone();
+  d->roi = r.roi;
+  return *d;
+}
+
+cv::Range roiRows(const Data& d) {
+  return cv::Range(d.roi.y, d.roi.br().y);
+}
+
+void setLabel(benchmark::State& state, const Data& d) {
+  auto slope = [](const LineTemplate& t) {
+    return std::to_string(t.slope_p) + "/" + std::to_string(t.slope_q);
+  };
+  state.SetLabel(std::to_string(d.width) + "x" + std::to_string(d.height) + " slopes " +
+                 slope(d.left) + " " + slope(d.right));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Whole frame
+
+void BM_Detect(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  LaneDetector det(d.params);
+  Result r;
+  for (int i = 0; i < kFrames; ++i) det.detect(d.frames[i].frame(), r);  // warm-up
+  StageTimings sum;
+  int i = 0;
+  for (auto _ : state) {
+    det.detect(d.frames[i++ % kFrames].frame(), r);
+    benchmark::DoNotOptimize(r.plane.distance);
+    sum.preprocess += r.timings.preprocess;
+    sum.points += r.timings.points;
+    sum.normals += r.timings.normals;
+    sum.matching += r.timings.matching;
+    sum.response += r.timings.response;
+    sum.pca += r.timings.pca;
+    sum.tracing += r.timings.tracing;
+    sum.plane += r.timings.plane;
+  }
+  using C = benchmark::Counter;
+  state.counters["preprocess_ms"] = C(sum.preprocess, C::kAvgIterations);
+  state.counters["points_ms"] = C(sum.points, C::kAvgIterations);
+  state.counters["normals_ms"] = C(sum.normals, C::kAvgIterations);
+  state.counters["matching_ms"] = C(sum.matching, C::kAvgIterations);
+  state.counters["response_ms"] = C(sum.response, C::kAvgIterations);
+  state.counters["pca_ms"] = C(sum.pca, C::kAvgIterations);
+  state.counters["tracing_ms"] = C(sum.tracing, C::kAvgIterations);
+  state.counters["plane_ms"] = C(sum.plane, C::kAvgIterations);
+  setLabel(state, d);
+}
+
+void BM_OpenCV_Pipeline(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  OpenCvPipeline cv_pipe;
+  cv_pipe.configure(d.frames[0].frame(), d.params);
+  int i = 0;
+  for (auto _ : state) {
+    cv_pipe.run(d.frames[i++ % kFrames].frame(), d.left, d.right);
+    benchmark::DoNotOptimize(cv_pipe.response_left.data);
+  }
+  setLabel(state, d);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stages of the core, called as detect() calls them, on frame 0
+
+void BM_Stage_HalfBinary(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  const Frame f = d.frames[0].frame();
+  cv::Mat hb;
+  for (auto _ : state) {
+    halfBinary(f.colour, f.format, d.params.tau_c, roiRows(d), hb);
+    benchmark::ClobberMemory();
+  }
+  setLabel(state, d);
+}
+
+void BM_Stage_Points(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  const Frame f = d.frames[0].frame();
+  DepthDecoder dec;
+  dec.scale = f.depth_scale;
+  dec.min_depth = d.params.min_depth;
+  dec.max_depth = d.params.max_depth;
+  const int h = d.params.normal_window / 2;
+  const cv::Range rows(std::max(0, d.roi.y - h), std::min(d.height, d.roi.br().y + h));
+  cv::Mat pts;
+  for (auto _ : state) {
+    depthToPoints(f.depth, dec, f.intrinsics, rows, pts);
+    benchmark::ClobberMemory();
+  }
+  setLabel(state, d);
+}
+
+struct Prepared {
+  cv::Mat hb, pts, normals, G, ml, mr;
+};
+
+Prepared prepare(const Data& d) {
+  Prepared p;
+  const Frame f = d.frames[0].frame();
+  halfBinary(f.colour, f.format, d.params.tau_c, cv::Range(0, d.height), p.hb);
+  DepthDecoder dec;
+  dec.scale = f.depth_scale;
+  dec.min_depth = d.params.min_depth;
+  dec.max_depth = d.params.max_depth;
+  depthToPoints(f.depth, dec, f.intrinsics, cv::Range(0, d.height), p.pts);
+  FalsNormals fals;
+  fals.configure(p.pts.size(), f.intrinsics, d.params.normal_window);
+  fals.compute(p.pts, roiRows(d), p.normals);
+  NccMatcher m;
+  m.match(p.hb, d.roi, d.left, d.right, p.ml, p.mr);
+  return p;
+}
+
+void BM_Stage_Normals(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  Prepared p = prepare(d);
+  FalsNormals fals;
+  fals.configure(p.pts.size(), d.frames[0].K, d.params.normal_window);
+  for (auto _ : state) {
+    fals.compute(p.pts, roiRows(d), p.normals);
+    benchmark::ClobberMemory();
+  }
+  setLabel(state, d);
+}
+
+void BM_Stage_Matching(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  Prepared p = prepare(d);
+  NccMatcher m;
+  for (auto _ : state) {
+    m.match(p.hb, d.roi, d.left, d.right, p.ml, p.mr);
+    benchmark::ClobberMemory();
+  }
+  setLabel(state, d);
+}
+
+void BM_Stage_Response(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  Prepared p = prepare(d);
+  const float tau = static_cast<float>(d.params.tau_g);
+  for (auto _ : state) {
+    geometricMap(p.pts, p.normals, d.params, roiRows(d), p.G);
+    fuseResponse(p.ml, p.G, tau, roiRows(d), p.ml);
+    fuseResponse(p.mr, p.G, tau, roiRows(d), p.mr);
+    benchmark::ClobberMemory();
+  }
+  setLabel(state, d);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Stages of the OpenCV pipeline on frame 0
+
+template <int kStage>
+void BM_OpenCV_Stage(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  const Frame f = d.frames[0].frame();
+  OpenCvPipeline cvp;
+  cvp.configure(f, d.params);
+  cvp.run(f, d.left, d.right);
+  for (auto _ : state) {
+    switch (kStage) {
+      case 0:
+        cvp.preprocess(f);
+        break;
+      case 1:
+        cvp.points(f);
+        break;
+      case 2:
+        cvp.normals();
+        break;
+      case 3:
+        cvp.matching(d.left, d.right);
+        break;
+      default:
+        cvp.response();
+        break;
+    }
+    benchmark::ClobberMemory();
+  }
+  setLabel(state, d);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  b->Arg(640)->Arg(1280)->Unit(benchmark::kMillisecond)->MinTime(0.5);
+}
+
+BENCHMARK(BM_Detect)->Apply(sizes);
+BENCHMARK(BM_OpenCV_Pipeline)->Apply(sizes);
+BENCHMARK(BM_Stage_HalfBinary)->Apply(sizes);
+BENCHMARK(BM_Stage_Points)->Apply(sizes);
+BENCHMARK(BM_Stage_Normals)->Apply(sizes);
+BENCHMARK(BM_Stage_Matching)->Apply(sizes);
+BENCHMARK(BM_Stage_Response)->Apply(sizes);
+BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 0)->Name("BM_OpenCV_Preprocess")->Apply(sizes);
+BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 1)->Name("BM_OpenCV_Points")->Apply(sizes);
+BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 2)->Name("BM_OpenCV_Normals")->Apply(sizes);
+BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 3)->Name("BM_OpenCV_Matching")->Apply(sizes);
+BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 4)->Name("BM_OpenCV_Response")->Apply(sizes);
+
+}  // namespace
+}  // namespace bench
+}  // namespace rgbd_lane_detector
+
+int main(int argc, char** argv) {
+  cv::setNumThreads(1);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
