@@ -1,0 +1,138 @@
+/**
+ * @file lane_detector_nodelet.h
+ * @brief Nodelet wrapping the ROS-free LaneDetector: synchronised colour, depth and
+ * camera_info in; lane plane, markings, points, response maps, overlay and rviz markers out.
+ * See docs/NODELET.md for topics and parameters.
+ */
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <boost/thread/recursive_mutex.hpp>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <diagnostic_updater/publisher.h>
+#include <dynamic_reconfigure/server.h>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <rgbd_lane_detector/LaneDetectorConfig.h>
+
+#include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+class LaneDetectorNodelet : public nodelet::Nodelet {
+ public:
+  LaneDetectorNodelet() = default;
+  ~LaneDetectorNodelet() override;
+
+ private:
+  using Image = sensor_msgs::Image;
+  using CameraInfo = sensor_msgs::CameraInfo;
+  using ApproximatePolicy = message_filters::sync_policies::ApproximateTime<Image, Image, CameraInfo>;
+  using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Image, CameraInfo>;
+  using ReconfigureServer = dynamic_reconfigure::Server<LaneDetectorConfig>;
+
+  /// Which outputs have subscribers this frame (lazy publishing).
+  struct Wanted {
+    bool plane = false, markings = false, points = false, markers = false;
+    bool left = false, right = false, geometric = false, debug = false;
+    bool any() const { return plane || markings || points || markers || left || right || geometric || debug; }
+  };
+
+  /// Per-frame statistics for the diagnostics (guarded by stats_mutex_).
+  struct Stats {
+    uint64_t processed = 0;        ///< frames published (total)
+    uint64_t dropped = 0;          ///< frames dropped (total)
+    uint64_t window_count = 0;     ///< processed since the last diagnostics update
+    uint64_t window_dropped = 0;   ///< dropped since the last diagnostics update
+    double window_callback_ms = 0; ///< sum of whole-callback times in the window
+    double window_detect_ms = 0;   ///< sum of core detect() times in the window
+    double window_max_ms = 0;      ///< slowest callback in the window
+    const char* last_drop = "";    ///< static description of the last drop
+  };
+
+  void onInit() override;
+  void readInitialConfig(ros::NodeHandle& pnh);
+  /// Subscribe to the inputs when any output has a subscriber, unsubscribe when none has.
+  void connectCb();
+  void configCallback(LaneDetectorConfig& config, uint32_t level);
+  void frameCallback(const sensor_msgs::ImageConstPtr& colour, const sensor_msgs::ImageConstPtr& depth,
+                     const sensor_msgs::CameraInfoConstPtr& info);
+  Wanted wantedOutputs() const;
+  /// Copy the latest reconfigured Params and the up axis into the detector when they changed.
+  /// @return false (frame to skip) when the up axis is requested but unavailable.
+  bool updateDetectorParams(const std::string& optical_frame);
+  /// Transform from the optical frame into the output frame; false (frame to skip) if missing.
+  bool outputTransform(const std_msgs::Header& header, Eigen::Isometry3d& T, std::string& frame_id);
+  void publishOutputs(const Wanted& wanted, const Frame& frame,
+                      const std_msgs::Header& image_header, const std_msgs::Header& out_header,
+                      const Eigen::Isometry3d& T);
+  /// Bad input: a throttled error naming the problem, then countDrop().
+  void dropFrame(const char* problem, const Image& colour, const Image& depth);
+  /// Count a dropped frame for the diagnostics (@p problem: static text).
+  void countDrop(const char* problem);
+  void processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  // --- inputs (declared before the synchronisers, which hold references to them) ---------------
+  std::shared_ptr<image_transport::ImageTransport> it_;
+  image_transport::SubscriberFilter sub_colour_;
+  image_transport::SubscriberFilter sub_depth_;
+  message_filters::Subscriber<CameraInfo> sub_info_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  int queue_size_ = 5;
+  std::mutex connect_mutex_;
+
+  // --- outputs -----------------------------------------------------------------------------
+  ros::Publisher pub_plane_, pub_markings_, pub_points_, pub_markers_;
+  image_transport::Publisher pub_left_, pub_right_, pub_geometric_, pub_debug_;
+
+  // --- parameters: written by configCallback, read by frameCallback ------------------------------
+  boost::recursive_mutex config_mutex_;  ///< the reconfigure server's own lock
+  std::unique_ptr<ReconfigureServer> reconfigure_server_;
+  std::mutex params_mutex_;
+  Params params_;                 ///< latest sanitised config (guarded by params_mutex_)
+  uint64_t params_version_ = 0;   ///< bumped by every config change (guarded)
+
+  // --- frame state (frame callbacks are serialised on the nodelet's callback queue) -----------
+  LaneDetector detector_;
+  Result result_;
+  Params frame_params_;           ///< parameters the detector runs with
+  uint64_t applied_version_ = 0;
+  ros::Time last_stamp_;
+  cv::Mat depth_swap_;            ///< byte-swapped depth (foreign-endian streams only)
+
+  // --- tf -----------------------------------------------------------------------------------
+  std::string target_frame_;      ///< output frame; empty: the colour optical frame
+  std::string up_frame_;          ///< frame whose +z is the road's up axis; empty: camera -y
+  double tf_timeout_ = 0.05;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+
+  // --- diagnostics (declared so that the timer goes first, the updater last) ------------------
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  double min_rate_ = 1.0, max_rate_ = 100.0;
+  std::unique_ptr<diagnostic_updater::TopicDiagnostic> rate_diagnostic_;
+  ros::Timer diagnostics_timer_;
+  std::mutex stats_mutex_;
+  Stats stats_;
+};
+
+}  // namespace rgbd_lane_detector

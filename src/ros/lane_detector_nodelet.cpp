@@ -1,0 +1,402 @@
+// Thin ROS wrapper of the core detector: parameters, synchronised inputs, lazy outputs.
+// Every message <-> core conversion lives in conversions.cpp.
+#include "rgbd_lane_detector/ros/lane_detector_nodelet.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+
+#include <boost/bind/bind.hpp>
+#include <boost/make_shared.hpp>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/image_encodings.h>
+#include <tf2/exceptions.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <rgbd_lane_detector/LaneMarkings.h>
+#include <rgbd_lane_detector/LanePlane.h>
+
+#include "rgbd_lane_detector/overlay.h"
+#include "rgbd_lane_detector/ros/conversions.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace boost::placeholders;
+namespace conv = conversions;
+
+constexpr double kThrottle = 5.0;  // s between repeated per-frame warnings / errors
+
+}  // namespace
+
+LaneDetectorNodelet::~LaneDetectorNodelet() { diagnostics_timer_.stop(); }
+
+void LaneDetectorNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  it_ = std::make_shared<image_transport::ImageTransport>(nh);
+
+  // Synchronised inputs; the subscriptions themselves are made in connectCb.
+  pnh.param("queue_size", queue_size_, 5);
+  queue_size_ = std::max(1, queue_size_);
+  bool approximate_sync = true;
+  pnh.param("approximate_sync", approximate_sync, true);
+  if (approximate_sync) {
+    approximate_sync_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
+        ApproximatePolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
+    approximate_sync_->setReset(true);  // sim time jumping back (rosbag loop) clears the queues
+    approximate_sync_->registerCallback(boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+  } else {
+    exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(ExactPolicy(queue_size_), sub_colour_,
+                                                                     sub_depth_, sub_info_));
+    exact_sync_->setReset(true);
+    exact_sync_->registerCallback(boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+  }
+
+  // tf: only when an output frame or an up frame is requested.
+  pnh.param<std::string>("target_frame", target_frame_, "");
+  pnh.param<std::string>("up_frame", up_frame_, "");
+  pnh.param("tf_timeout", tf_timeout_, 0.05);
+  tf_timeout_ = std::max(0.0, tf_timeout_);
+  if (!target_frame_.empty() || !up_frame_.empty()) {
+    tf_buffer_.reset(new tf2_ros::Buffer);
+    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_));
+  }
+
+  // Parameters: initial values from the parameter server (and the mode preset), then every
+  // change through dynamic_reconfigure. setCallback() runs configCallback once.
+  readInitialConfig(pnh);
+  reconfigure_server_.reset(new ReconfigureServer(config_mutex_, pnh));
+  reconfigure_server_->setCallback(boost::bind(&LaneDetectorNodelet::configCallback, this, _1, _2));
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    frame_params_ = params_;
+    applied_version_ = params_version_;
+  }
+  detector_.setParams(frame_params_);
+
+  // Diagnostics: output rate and stamp delay, per-frame processing time and drops.
+  updater_.reset(new diagnostic_updater::Updater(nh, pnh, getName()));
+  std::string hardware_id;
+  pnh.param<std::string>("diagnostic_hardware_id", hardware_id, "none");
+  updater_->setHardwareID(hardware_id);
+  pnh.param("diagnostic_min_rate", min_rate_, 1.0);
+  pnh.param("diagnostic_max_rate", max_rate_, 100.0);
+  double max_delay = 1.0;
+  pnh.param("diagnostic_max_delay", max_delay, 1.0);
+  rate_diagnostic_.reset(new diagnostic_updater::TopicDiagnostic(
+      "output rate", *updater_, diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.1, 10),
+      diagnostic_updater::TimeStampStatusParam(-1.0, max_delay)));
+  updater_->add("processing", this, &LaneDetectorNodelet::processingDiagnostics);
+  diagnostics_timer_ = nh.createTimer(ros::Duration(std::max(0.05, updater_->getPeriod())),
+                                      [this](const ros::TimerEvent&) { updater_->force_update(); });
+
+  // Outputs. Advertise under the connect mutex so that connectCb, which may run as soon as
+  // the first publisher exists, never sees the others half-assigned (as image_proc does).
+  ros::SubscriberStatusCallback connect_cb = boost::bind(&LaneDetectorNodelet::connectCb, this);
+  image_transport::SubscriberStatusCallback image_connect_cb = boost::bind(&LaneDetectorNodelet::connectCb, this);
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  pub_plane_ = nh.advertise<LanePlane>("lane_plane", 5, connect_cb, connect_cb);
+  pub_markings_ = nh.advertise<LaneMarkings>("lane_markings", 5, connect_cb, connect_cb);
+  pub_points_ = nh.advertise<sensor_msgs::PointCloud2>("lane_points", 5, connect_cb, connect_cb);
+  pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("lane_visualization", 5, connect_cb, connect_cb);
+  pub_left_ = it_->advertise("response/left", 1, image_connect_cb, image_connect_cb);
+  pub_right_ = it_->advertise("response/right", 1, image_connect_cb, image_connect_cb);
+  pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
+  pub_debug_ = it_->advertise("debug_image", 1, image_connect_cb, image_connect_cb);
+  NODELET_INFO("Lane detector ready (%s sync, output frame: %s, up axis: %s)",
+               approximate_sync ? "approximate" : "exact",
+               target_frame_.empty() ? "colour optical frame" : target_frame_.c_str(),
+               up_frame_.empty() ? "camera -y" : ("+z of " + up_frame_).c_str());
+}
+
+void LaneDetectorNodelet::readInitialConfig(ros::NodeHandle& pnh) {
+  // `mode` (paper | improved) gives the initial value of every parameter that is not set
+  // explicitly; explicit private parameters win (as in loadParamsYaml: preset, then keys).
+  std::string mode;
+  pnh.param<std::string>("mode", mode, "");
+  if (mode.empty()) return;
+  if (mode != "paper" && mode != "improved") {
+    NODELET_ERROR("Unknown mode '%s' (expected paper or improved): ignored", mode.c_str());
+    return;
+  }
+  LaneDetectorConfig preset = LaneDetectorConfig::__getDefault__();
+  LaneDetectorConfig other = preset;
+  conv::paramsToConfig(mode == "improved" ? Params::improved() : Params::paper(), preset);
+  conv::paramsToConfig(mode == "improved" ? Params::paper() : Params::improved(), other);
+  std::string overridden;
+  for (const auto& param : LaneDetectorConfig::__getParamDescriptions__()) {
+    if (!pnh.hasParam(param->name)) {
+      param->toServer(pnh, preset);
+      continue;
+    }
+    dynamic_reconfigure::Config preset_value, other_value;
+    param->toMessage(preset_value, preset);
+    param->toMessage(other_value, other);
+    if (!(preset_value == other_value)) overridden += " " + param->name;
+  }
+  NODELET_INFO("Mode '%s': preset values for the parameters not given%s%s", mode.c_str(),
+               overridden.empty() ? "" : "; given explicitly, overriding the preset:",
+               overridden.c_str());
+}
+
+void LaneDetectorNodelet::connectCb() {
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  if (!wantedOutputs().any()) {
+    NODELET_DEBUG("No subscribers: unsubscribing from the inputs");
+    sub_colour_.unsubscribe();
+    sub_depth_.unsubscribe();
+    sub_info_.unsubscribe();
+  } else if (!sub_colour_.getSubscriber()) {
+    NODELET_DEBUG("Subscribing to the inputs");
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    // transport hints from ~image_transport and ~depth_image_transport (e.g. compressedDepth)
+    const image_transport::TransportHints colour_hints("raw", ros::TransportHints(), pnh, "image_transport");
+    const image_transport::TransportHints depth_hints("raw", ros::TransportHints(), pnh, "depth_image_transport");
+    sub_colour_.subscribe(*it_, "rgb/image_rect_color", queue_size_, colour_hints);
+    sub_depth_.subscribe(*it_, "depth_registered/image_rect", queue_size_, depth_hints);
+    sub_info_.subscribe(nh, "rgb/camera_info", queue_size_);
+  }
+}
+
+void LaneDetectorNodelet::configCallback(LaneDetectorConfig& config, uint32_t /*level*/) {
+  std::lock_guard<std::mutex> lock(params_mutex_);
+  Params p = params_;  // keeps the non-reconfigurable fields (up axis)
+  conv::configToParams(config, p);
+  p = sanitize(p);
+  conv::paramsToConfig(p, config);  // show the repaired values (odd windows...) in the GUI
+  params_ = p;
+  ++params_version_;
+}
+
+LaneDetectorNodelet::Wanted LaneDetectorNodelet::wantedOutputs() const {
+  Wanted w;
+  w.plane = pub_plane_.getNumSubscribers() > 0;
+  w.markings = pub_markings_.getNumSubscribers() > 0;
+  w.points = pub_points_.getNumSubscribers() > 0;
+  w.markers = pub_markers_.getNumSubscribers() > 0;
+  w.left = pub_left_.getNumSubscribers() > 0;
+  w.right = pub_right_.getNumSubscribers() > 0;
+  w.geometric = pub_geometric_.getNumSubscribers() > 0;
+  w.debug = pub_debug_.getNumSubscribers() > 0;
+  return w;
+}
+
+bool LaneDetectorNodelet::updateDetectorParams(const std::string& optical_frame) {
+  Params p;
+  bool changed = false;
+  {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    if (params_version_ != applied_version_) {
+      p = params_;
+      applied_version_ = params_version_;
+      changed = true;
+    }
+  }
+  if (!changed) p = frame_params_;
+  if (!up_frame_.empty()) {
+    try {
+      const Eigen::Vector3d up = conv::upAxisFromTransform(tf2::transformToEigen(
+          tf_buffer_->lookupTransform(optical_frame, up_frame_, ros::Time(0), ros::Duration(tf_timeout_))));
+      p.up_x = up.x();
+      p.up_y = up.y();
+      p.up_z = up.z();
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN_THROTTLE(kThrottle, "Skipping frame: no transform from up_frame '%s' to '%s': %s",
+                            up_frame_.c_str(), optical_frame.c_str(), e.what());
+      return false;
+    }
+  }
+  const Params& q = frame_params_;
+  constexpr double kUpTolerance = 1e-6;  // a static mount gives the same axis every frame
+  if (changed || std::fabs(p.up_x - q.up_x) > kUpTolerance || std::fabs(p.up_y - q.up_y) > kUpTolerance ||
+      std::fabs(p.up_z - q.up_z) > kUpTolerance) {
+    detector_.setParams(p);
+    frame_params_ = detector_.params();
+  }
+  return true;
+}
+
+bool LaneDetectorNodelet::outputTransform(const std_msgs::Header& header, Eigen::Isometry3d& T,
+                                          std::string& frame_id) {
+  T.setIdentity();
+  if (target_frame_.empty() || target_frame_ == header.frame_id) {
+    frame_id = header.frame_id;
+    return true;
+  }
+  try {
+    T = tf2::transformToEigen(
+        tf_buffer_->lookupTransform(target_frame_, header.frame_id, header.stamp, ros::Duration(tf_timeout_)));
+  } catch (const tf2::TransformException& e) {
+    NODELET_WARN_THROTTLE(kThrottle, "Skipping frame: no transform from '%s' to target_frame '%s' at %.3f: %s",
+                          header.frame_id.c_str(), target_frame_.c_str(), header.stamp.toSec(), e.what());
+    return false;
+  }
+  frame_id = target_frame_;
+  return true;
+}
+
+void LaneDetectorNodelet::frameCallback(const sensor_msgs::ImageConstPtr& colour,
+                                        const sensor_msgs::ImageConstPtr& depth,
+                                        const sensor_msgs::CameraInfoConstPtr& info) {
+  const Clock::time_point start = Clock::now();
+  const Wanted wanted = wantedOutputs();
+  if (!wanted.any()) return;  // the last subscriber left while this frame was queued
+  const std_msgs::Header& image_header = colour->header;
+
+  if (!updateDetectorParams(image_header.frame_id)) {
+    countDrop("no transform from up_frame");
+    return;
+  }
+  Frame frame;
+  if (const char* problem = conv::frameFromMsgs(*colour, *depth, *info, frame, depth_swap_)) {
+    dropFrame(problem, *colour, *depth);
+    return;
+  }
+  const Status valid = detector_.validate(frame);
+  if (valid != Status::kOk) {
+    dropFrame(statusMessage(valid), *colour, *depth);
+    return;
+  }
+  std_msgs::Header out_header = image_header;
+  Eigen::Isometry3d T;
+  if (!outputTransform(image_header, T, out_header.frame_id)) {
+    countDrop("no transform to target_frame");
+    return;
+  }
+
+  if (!last_stamp_.isZero() && image_header.stamp < last_stamp_) {
+    NODELET_INFO_THROTTLE(1.0, "Input stamps went back %.3f s (rosbag loop?): resetting the detector state",
+                          (last_stamp_ - image_header.stamp).toSec());
+    detector_.reset();
+  }
+  last_stamp_ = image_header.stamp;
+
+  Status status;
+  try {
+    status = detector_.detect(frame, result_);
+  } catch (const std::exception& e) {  // never expected: the frame was validated
+    NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: detector failed: %s", e.what());
+    countDrop("detector exception");
+    return;
+  }
+  if (status != Status::kOk) {
+    dropFrame(statusMessage(status), *colour, *depth);
+    return;
+  }
+  publishOutputs(wanted, frame, image_header, out_header, T);
+  rate_diagnostic_->tick(image_header.stamp);
+
+  const double callback_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  ++stats_.processed;
+  ++stats_.window_count;
+  stats_.window_callback_ms += callback_ms;
+  stats_.window_detect_ms += result_.timings.total;
+  stats_.window_max_ms = std::max(stats_.window_max_ms, callback_ms);
+}
+
+void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& frame,
+                                         const std_msgs::Header& image_header,
+                                         const std_msgs::Header& out_header, const Eigen::Isometry3d& T) {
+  // Messages are allocated per publish (ROS 1 shares them with intra-process subscribers).
+  if (wanted.plane) {
+    auto msg = boost::make_shared<LanePlane>();
+    conv::fillLanePlane(result_, out_header, T, *msg);
+    pub_plane_.publish(msg);
+  }
+  if (wanted.markings) {
+    auto msg = boost::make_shared<LaneMarkings>();
+    conv::fillLaneMarkings(result_, out_header, T, *msg);
+    pub_markings_.publish(msg);
+  }
+  if (wanted.points) {
+    auto msg = boost::make_shared<sensor_msgs::PointCloud2>();
+    conv::fillLanePoints(result_, out_header, T, *msg);
+    pub_points_.publish(msg);
+  }
+  if (wanted.markers) {
+    auto msg = boost::make_shared<visualization_msgs::MarkerArray>();
+    conv::fillLaneMarkers(result_, out_header, T, *msg);
+    pub_markers_.publish(msg);
+  }
+  // Images stay in the camera's optical frame (they are pixels of that camera), at the
+  // processing resolution for the response maps.
+  const std::pair<bool, std::pair<const cv::Mat*, image_transport::Publisher*>> maps[] = {
+      {wanted.left, {&result_.response_left, &pub_left_}},
+      {wanted.right, {&result_.response_right, &pub_right_}},
+      {wanted.geometric, {&result_.geometric, &pub_geometric_}}};
+  for (const auto& m : maps) {
+    if (!m.first) continue;
+    auto msg = boost::make_shared<sensor_msgs::Image>();
+    conv::floatMapToImage(*m.second.first, image_header, *msg);
+    m.second.second->publish(msg);
+  }
+  if (wanted.debug) {
+    auto msg = boost::make_shared<sensor_msgs::Image>();
+    cv::Mat out = conv::prepareImage(frame.colour.rows, frame.colour.cols, CV_8UC3,
+                                     sensor_msgs::image_encodings::BGR8, image_header, *msg);
+    const uchar* data = out.data;
+    drawOverlay(frame.colour, frame.format, frame.intrinsics, result_, frame_params_, out);
+    if (out.data != data) {  // drawn elsewhere (size changed): copy into the message
+      const cv::Mat drawn = out;
+      out = conv::prepareImage(drawn.rows, drawn.cols, CV_8UC3, sensor_msgs::image_encodings::BGR8,
+                               image_header, *msg);
+      drawn.copyTo(out);
+    }
+    pub_debug_.publish(msg);
+  }
+}
+
+void LaneDetectorNodelet::dropFrame(const char* problem, const Image& colour, const Image& depth) {
+  NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: %s [colour %s %ux%u, depth %s %ux%u]", problem,
+                         colour.encoding.c_str(), colour.width, colour.height, depth.encoding.c_str(),
+                         depth.width, depth.height);
+  countDrop(problem);
+}
+
+void LaneDetectorNodelet::countDrop(const char* problem) {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  ++stats_.dropped;
+  ++stats_.window_dropped;
+  stats_.last_drop = problem;
+}
+
+void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+  bool subscribed;
+  {
+    std::lock_guard<std::mutex> lock(connect_mutex_);
+    subscribed = static_cast<bool>(sub_colour_.getSubscriber());
+  }
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  Stats& s = stats_;
+  const double n = static_cast<double>(std::max<uint64_t>(s.window_count, 1));
+  if (s.window_dropped > 0)
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%lu frame(s) dropped: %s",
+                  static_cast<unsigned long>(s.window_dropped), s.last_drop);
+  else if (!subscribed)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Idle: no subscribers");
+  else if (s.window_count == 0)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Waiting for frames");
+  else
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::OK, "%.1f ms per frame", s.window_callback_ms / n);
+  stat.add("Inputs subscribed", subscribed);
+  stat.add("Frames processed", s.processed);
+  stat.add("Frames dropped", s.dropped);
+  stat.add("Last drop reason", s.last_drop);
+  stat.addf("Mean processing time (ms)", "%.3f", s.window_callback_ms / n);
+  stat.addf("Mean detector time (ms)", "%.3f", s.window_detect_ms / n);
+  stat.addf("Mean ROS overhead (ms)", "%.3f", (s.window_callback_ms - s.window_detect_ms) / n);
+  stat.addf("Max processing time (ms)", "%.3f", s.window_max_ms);
+  s.window_count = s.window_dropped = 0;
+  s.window_callback_ms = s.window_detect_ms = s.window_max_ms = 0.0;
+}
+
+}  // namespace rgbd_lane_detector
+
+#include <pluginlib/class_list_macros.hpp>
+PLUGINLIB_EXPORT_CLASS(rgbd_lane_detector::LaneDetectorNodelet, nodelet::Nodelet)
