@@ -1,0 +1,683 @@
+// rostest of the lane detector nodelet, run against the standalone node
+// (lane_detector_node.test) and the nodelet in a manager (lane_detector_nodelet.test).
+// Publishes ray-cast road frames with exact plane truth and waits on conditions (with
+// generous timeouts, republishing frames meanwhile), never on fixed sleeps.
+//
+// Private parameters: ~target_frame ("" = outputs in the optical frame; else the test
+// broadcasts base_link -> optical with the road at z = 0), ~detector (the detector's name,
+// for dynamic_reconfigure), ~default_yaml/ (config/default.yaml loaded for a coverage check).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <functional>
+#include <limits>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <cv_bridge/cv_bridge.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <dynamic_reconfigure/Reconfigure.h>
+#include <opencv2/imgproc.hpp>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <rgbd_lane_detector/LaneDetectorConfig.h>
+#include <rgbd_lane_detector/LaneMarkings.h>
+#include <rgbd_lane_detector/LanePlane.h>
+
+#include "../core/synthetic_scene.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr double kTimeout = 60.0;      // s per condition: generous for a loaded 2-core machine
+constexpr double kTickPeriod = 0.2;    // s between frames published while waiting
+const char* const kOpticalFrame = "camera_color_optical_frame";
+
+std::mutex g_mutex;  // guards every collector
+std::condition_variable g_cv;
+
+template <class M>
+ros::Time stampOf(const M& m) {
+  return m.header.stamp;
+}
+ros::Time stampOf(const visualization_msgs::MarkerArray& m) {
+  return m.markers.empty() ? ros::Time() : m.markers.front().header.stamp;
+}
+
+/// Keeps every message of one topic (thread-safe); notifies waiters.
+template <class M>
+class Collector {
+ public:
+  using Ptr = boost::shared_ptr<const M>;
+  void subscribe(ros::NodeHandle& nh, const std::string& topic) {
+    sub_ = nh.subscribe<M>(topic, 50, &Collector::callback, this);
+  }
+  void shutdown() { sub_.shutdown(); }
+  void clear() {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    msgs_.clear();
+  }
+  /// First message satisfying pred (null if none).
+  Ptr find(const std::function<bool(const M&)>& pred) const {
+    std::vector<Ptr> msgs;
+    {
+      std::lock_guard<std::mutex> lock(g_mutex);
+      msgs = msgs_;  // pred may query other collectors
+    }
+    for (const auto& m : msgs)
+      if (pred(*m)) return m;
+    return Ptr();
+  }
+  Ptr withStamp(const ros::Time& t) const {
+    return find([&](const M& m) { return stampOf(m) == t; });
+  }
+  size_t size() const {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    return msgs_.size();
+  }
+
+ private:
+  void callback(const Ptr& m) {
+    {
+      std::lock_guard<std::mutex> lock(g_mutex);
+      msgs_.push_back(m);
+    }
+    g_cv.notify_all();
+  }
+  ros::Subscriber sub_;
+  std::vector<Ptr> msgs_;
+};
+
+/// Wait until done() holds, calling tick() every kTickPeriod (e.g. to publish a frame).
+/// (done may return anything testable as a bool, e.g. a found message.)
+template <class Done>
+bool waitFor(const Done& done, const std::function<void()>& tick = nullptr, double timeout = kTimeout) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](double s) {
+    return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+  };
+  const Clock::time_point end = Clock::now() + seconds(timeout);
+  Clock::time_point next_tick = Clock::now();
+  while (ros::ok() && Clock::now() < end) {
+    if (static_cast<bool>(done())) return true;
+    if (tick && Clock::now() >= next_tick) {
+      tick();
+      next_tick = Clock::now() + seconds(kTickPeriod);
+    }
+    std::unique_lock<std::mutex> lock(g_mutex);
+    g_cv.wait_for(lock, std::chrono::milliseconds(20));
+  }
+  return static_cast<bool>(done());
+}
+
+double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::fabs(a.normalized().dot(b.normalized())))) * 180.0 / M_PI;
+}
+
+/// One set of input messages (modified per case, stamped on publish).
+struct InputSet {
+  sensor_msgs::Image colour, depth;
+  sensor_msgs::CameraInfo info;
+};
+
+/// Test-wide state: publishers, rendered scene, truth, log and diagnostics collectors.
+class Harness {
+ public:
+  Harness() : pnh_("~") {
+    pnh_.param<std::string>("target_frame", target_frame, "");
+    pnh_.param<std::string>("detector", detector, "lane_detector");
+    detector = nh.resolveName(detector);
+    pub_colour = nh.advertise<sensor_msgs::Image>("rgb/image_rect_color", 5);
+    pub_depth = nh.advertise<sensor_msgs::Image>("depth_registered/image_rect", 5);
+    pub_info = nh.advertise<sensor_msgs::CameraInfo>("rgb/camera_info", 5);
+    rosout.subscribe(nh, "/rosout");
+    diagnostics.subscribe(nh, "/diagnostics");
+    scene.render(bgr, depth_mm, &depth_m);
+    good = makeInputs(bgr, "bgr8", depth_mm, "16UC1", scene.K);
+  }
+
+  InputSet makeInputs(const cv::Mat& colour, const std::string& colour_enc, const cv::Mat& depth,
+                      const std::string& depth_enc, const Intrinsics& K) const {
+    InputSet s;
+    std_msgs::Header h;
+    h.frame_id = kOpticalFrame;
+    s.colour = *cv_bridge::CvImage(h, colour_enc, colour).toImageMsg();
+    s.depth = *cv_bridge::CvImage(h, depth_enc, depth).toImageMsg();
+    s.info.header = h;
+    s.info.width = static_cast<uint32_t>(colour.cols);
+    s.info.height = static_cast<uint32_t>(colour.rows);
+    s.info.distortion_model = "plumb_bob";
+    s.info.D.assign(5, 0.0);
+    s.info.K = {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1};
+    s.info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    s.info.P = {K.fx, 0, K.cx, 0, 0, K.fy, K.cy, 0, 0, 0, 1, 0};
+    return s;
+  }
+
+  /// A stamp after every one published so far.
+  ros::Time nextStamp() {
+    ros::Time t = ros::Time::now();
+    if (t <= last_stamp) t = last_stamp + ros::Duration(0, 1000);
+    last_stamp = t;
+    return t;
+  }
+
+  /// Publish one set with @p stamp (fresh messages: publishing never aliases earlier ones).
+  ros::Time publish(const InputSet& s, const ros::Time& stamp) {
+    auto colour = boost::make_shared<sensor_msgs::Image>(s.colour);
+    auto depth = boost::make_shared<sensor_msgs::Image>(s.depth);
+    auto info = boost::make_shared<sensor_msgs::CameraInfo>(s.info);
+    colour->header.stamp = depth->header.stamp = info->header.stamp = stamp;
+    pub_info.publish(info);
+    pub_depth.publish(depth);
+    pub_colour.publish(colour);
+    return stamp;
+  }
+  ros::Time publish(const InputSet& s) { return publish(s, nextStamp()); }
+  ros::Time publishGood() { return publish(good); }
+
+  /// Road plane truth in the output frame.
+  void planeTruth(Eigen::Vector3d& n, double& d) const {
+    if (target_frame.empty()) {
+      n = scene.planeNormal();
+      d = scene.planeDistance();
+    } else {  // base_link on the road, z up
+      n = Eigen::Vector3d::UnitZ();
+      d = 0.0;
+    }
+  }
+  /// Signed lateral position (m) of a point (+ right of the camera) in the output frame.
+  double lateral(const geometry_msgs::Point& p) const { return target_frame.empty() ? p.x : -p.y; }
+  /// Distance along the road of a point in the output frame.
+  double forward(const geometry_msgs::Point& p) const { return target_frame.empty() ? p.z : p.x; }
+  std::string outputFrame() const { return target_frame.empty() ? kOpticalFrame : target_frame; }
+
+  /// base_link -> optical frame of the rendered camera (height camera_height, pitched down).
+  void broadcastTransform() {
+    if (tf_sent) return;
+    const double p = scene.pitch;
+    Eigen::Matrix3d R_optical_base;  // columns: base x (forward), y (left), z (up) in optical
+    R_optical_base.col(0) = Eigen::Vector3d(0, -std::sin(p), std::cos(p));
+    R_optical_base.col(1) = Eigen::Vector3d(-1, 0, 0);
+    R_optical_base.col(2) = scene.planeNormal();  // up: the road normal, toward the camera
+    Eigen::Isometry3d T_base_optical = Eigen::Isometry3d::Identity();
+    T_base_optical.linear() = R_optical_base.transpose();
+    T_base_optical.translation() = Eigen::Vector3d(0, 0, scene.camera_height);
+    geometry_msgs::TransformStamped t = tf2::eigenToTransform(T_base_optical);
+    t.header.stamp = ros::Time::now();
+    t.header.frame_id = target_frame;
+    t.child_frame_id = kOpticalFrame;
+    broadcaster.sendTransform(t);
+    tf_sent = true;
+  }
+  void prepare() {
+    if (!target_frame.empty()) broadcastTransform();
+  }
+
+  bool logContains(uint8_t level, const std::string& a, const std::string& b = "") const {
+    return static_cast<bool>(rosout.find([&](const rosgraph_msgs::Log& l) {
+      return l.level == level && l.msg.find(a) != std::string::npos && l.msg.find(b) != std::string::npos;
+    }));
+  }
+
+  ros::NodeHandle nh;
+  std::string target_frame, detector;
+  ros::Publisher pub_colour, pub_depth, pub_info;
+  test::RoadScene scene;
+  cv::Mat bgr, depth_mm, depth_m;
+  InputSet good;
+  Collector<rosgraph_msgs::Log> rosout;
+  Collector<diagnostic_msgs::DiagnosticArray> diagnostics;
+  tf2_ros::StaticTransformBroadcaster broadcaster;
+  bool tf_sent = false;
+  ros::Time last_stamp;
+
+ private:
+  ros::NodeHandle pnh_;
+};
+
+Harness* g = nullptr;
+
+/// Subscribers to every output of the detector.
+struct Outputs {
+  Collector<LanePlane> plane;
+  Collector<LaneMarkings> markings;
+  Collector<sensor_msgs::PointCloud2> points;
+  Collector<visualization_msgs::MarkerArray> markers;
+  Collector<sensor_msgs::Image> left, right, geometric, debug;
+  void subscribeAll(ros::NodeHandle& nh) {
+    plane.subscribe(nh, "lane_plane");
+    markings.subscribe(nh, "lane_markings");
+    points.subscribe(nh, "lane_points");
+    markers.subscribe(nh, "lane_visualization");
+    left.subscribe(nh, "response/left");
+    right.subscribe(nh, "response/right");
+    geometric.subscribe(nh, "response/geometric");
+    debug.subscribe(nh, "debug_image");
+  }
+};
+
+bool inputsSubscribed(bool yes) {
+  const auto n = [](const ros::Publisher& p) { return p.getNumSubscribers() > 0; };
+  return yes ? (n(g->pub_colour) && n(g->pub_depth) && n(g->pub_info))
+             : (!n(g->pub_colour) && !n(g->pub_depth) && !n(g->pub_info));
+}
+
+void expectPlaneNearTruth(const LanePlane& plane) {
+  Eigen::Vector3d n_true;
+  double d_true;
+  g->planeTruth(n_true, d_true);
+  const Eigen::Vector3d n(plane.normal.x, plane.normal.y, plane.normal.z);
+  EXPECT_TRUE(plane.valid);
+  EXPECT_NEAR(n.norm(), 1.0, 1e-6);
+  EXPECT_LT(angleDeg(n, n_true), 1.0);
+  EXPECT_GT(n.dot(n_true), 0.0) << "normal must point toward the camera side";
+  EXPECT_NEAR(plane.distance, d_true, 0.05);
+}
+
+// Reconfigure one parameter through the set_parameters service; returns the applied config.
+template <class P>
+bool reconfigure(const std::string& name, decltype(P::value) value, dynamic_reconfigure::Config* applied,
+                 std::vector<P> dynamic_reconfigure::Config::*field) {
+  const std::string service = g->detector + "/set_parameters";
+  if (!ros::service::waitForService(service, ros::Duration(kTimeout))) return false;
+  dynamic_reconfigure::Reconfigure srv;
+  P p;
+  p.name = name;
+  p.value = value;
+  (srv.request.config.*field).push_back(p);
+  if (!ros::service::call(service, srv)) return false;
+  if (applied) *applied = srv.response.config;
+  return true;
+}
+bool setBool(const std::string& name, bool v, dynamic_reconfigure::Config* out = nullptr) {
+  return reconfigure<dynamic_reconfigure::BoolParameter>(name, v, out, &dynamic_reconfigure::Config::bools);
+}
+bool setInt(const std::string& name, int v, dynamic_reconfigure::Config* out = nullptr) {
+  return reconfigure<dynamic_reconfigure::IntParameter>(name, v, out, &dynamic_reconfigure::Config::ints);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Declared first: it needs the time before the static transform is broadcast.
+TEST(LaneDetectorRos, MissingTransformSkipsFramesWithWarning) {
+  if (g->target_frame.empty() || g->tf_sent) GTEST_SKIP() << "needs ~target_frame and no transform yet";
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  ASSERT_TRUE(waitFor([] { return g->logContains(rosgraph_msgs::Log::WARN, "Skipping frame", "transform"); },
+                      [] { g->publishGood(); }))
+      << "no throttled warning about the missing transform";
+  EXPECT_EQ(out.plane.size(), 0u) << "a frame was published without its transform";
+  g->broadcastTransform();
+  const ros::Time after = g->last_stamp;
+  EXPECT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > after; }); },
+                      [] { g->publishGood(); }))
+      << "frames still skipped once the transform exists";
+}
+
+TEST(LaneDetectorRos, DefaultYamlCoversEveryParameter) {
+  ros::NodeHandle yaml("~default_yaml");
+  const LaneDetectorConfig& def = LaneDetectorConfig::__getDefault__();
+  dynamic_reconfigure::Config def_msg;
+  def.__toMessage__(def_msg);
+  for (const auto& b : def_msg.bools) {
+    bool v;
+    ASSERT_TRUE(yaml.getParam(b.name, v)) << "config/default.yaml lacks " << b.name;
+    EXPECT_EQ(v, static_cast<bool>(b.value)) << b.name;
+  }
+  for (const auto& i : def_msg.ints) {
+    int v;
+    ASSERT_TRUE(yaml.getParam(i.name, v)) << "config/default.yaml lacks " << i.name;
+    EXPECT_EQ(v, i.value) << i.name;
+  }
+  for (const auto& d : def_msg.doubles) {
+    double v;
+    ASSERT_TRUE(yaml.getParam(d.name, v)) << "config/default.yaml lacks " << d.name;
+    EXPECT_DOUBLE_EQ(v, d.value) << d.name;
+  }
+}
+
+TEST(LaneDetectorRos, LazySubscription) {
+  g->prepare();
+  // the detector is up (outputs advertised) but nobody listens: no input subscriptions
+  ASSERT_TRUE(waitFor([] {
+    ros::master::V_TopicInfo topics;
+    ros::master::getTopics(topics);
+    return std::any_of(topics.begin(), topics.end(),
+                       [](const ros::master::TopicInfo& t) { return t.name == g->nh.resolveName("lane_plane"); });
+  })) << "detector never advertised lane_plane";
+  ASSERT_TRUE(waitFor([] { return inputsSubscribed(false); })) << "inputs subscribed with no output subscriber";
+
+  Outputs out;
+  const std::vector<std::pair<std::string, std::function<void(bool)>>> outputs = {
+      {"lane_plane", [&](bool on) { on ? out.plane.subscribe(g->nh, "lane_plane") : out.plane.shutdown(); }},
+      {"lane_points", [&](bool on) { on ? out.points.subscribe(g->nh, "lane_points") : out.points.shutdown(); }},
+      {"debug_image", [&](bool on) { on ? out.debug.subscribe(g->nh, "debug_image") : out.debug.shutdown(); }},
+      {"response/geometric",
+       [&](bool on) { on ? out.geometric.subscribe(g->nh, "response/geometric") : out.geometric.shutdown(); }}};
+  for (const auto& output : outputs) {
+    output.second(true);
+    EXPECT_TRUE(waitFor([] { return inputsSubscribed(true); }))
+        << "subscribing to " << output.first << " did not subscribe the inputs";
+    output.second(false);
+    EXPECT_TRUE(waitFor([] { return inputsSubscribed(false); }))
+        << "inputs still subscribed after " << output.first << " lost its subscriber";
+  }
+}
+
+TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
+  g->prepare();
+  Outputs out;
+  out.subscribeAll(g->nh);
+  // a stamp for which every output arrived and the plane is valid
+  ros::Time stamp;
+  auto complete = [&] {
+    auto plane = out.plane.find([&](const LanePlane& m) {
+      return m.valid && out.markings.withStamp(m.header.stamp) && out.points.withStamp(m.header.stamp) &&
+             out.markers.withStamp(m.header.stamp) && out.left.withStamp(m.header.stamp) &&
+             out.right.withStamp(m.header.stamp) && out.geometric.withStamp(m.header.stamp) &&
+             out.debug.withStamp(m.header.stamp);
+    });
+    if (plane) stamp = plane->header.stamp;
+    return static_cast<bool>(plane);
+  };
+  ASSERT_TRUE(waitFor(complete, [] { g->publishGood(); })) << "not every output arrived with a valid plane";
+
+  const std::string frame = g->outputFrame();
+  Eigen::Vector3d n_true;
+  double d_true;
+  g->planeTruth(n_true, d_true);
+  auto planeDistance = [&](double x, double y, double z) { return n_true.dot(Eigen::Vector3d(x, y, z)) + d_true; };
+
+  // lane_plane
+  const auto plane = out.plane.withStamp(stamp);
+  EXPECT_EQ(plane->header.frame_id, frame);
+  expectPlaneNearTruth(*plane);
+  EXPECT_FALSE(plane->support_points.empty());
+  for (const auto& p : plane->support_points) EXPECT_LT(std::fabs(planeDistance(p.x, p.y, p.z)), 0.05);
+  EXPECT_GT(plane->left_score, 0.f);
+  EXPECT_GT(plane->right_score, 0.f);
+
+  // lane_markings: left and right marker centre lines, near to far
+  const auto markings = out.markings.withStamp(stamp);
+  EXPECT_EQ(markings->header.frame_id, frame);
+  ASSERT_GE(markings->left.size(), 2u);
+  ASSERT_GE(markings->right.size(), 2u);
+  for (const auto& p : markings->left) EXPECT_NEAR(g->lateral(p), g->scene.leftMarkerX(), 0.2);
+  for (const auto& p : markings->right) EXPECT_NEAR(g->lateral(p), g->scene.rightMarkerX(), 0.2);
+  EXPECT_LT(g->forward(markings->left.front()), g->forward(markings->left.back()));
+  EXPECT_LT(g->forward(markings->right.front()), g->forward(markings->right.back()));
+  EXPECT_GT(markings->left_score, 0.f);
+  EXPECT_GT(markings->right_score, 0.f);
+
+  // lane_points: one point per marking point, with score and side
+  const auto cloud = out.points.withStamp(stamp);
+  EXPECT_EQ(cloud->header.frame_id, frame);
+  EXPECT_EQ(cloud->height, 1u);
+  ASSERT_EQ(cloud->width, markings->left.size() + markings->right.size());
+  sensor_msgs::PointCloud2ConstIterator<float> x(*cloud, "x"), y(*cloud, "y"), z(*cloud, "z"), s(*cloud, "score");
+  sensor_msgs::PointCloud2ConstIterator<uint8_t> side(*cloud, "side");
+  size_t lefts = 0;
+  for (uint32_t i = 0; i < cloud->width; ++i, ++x, ++y, ++z, ++s, ++side) {
+    EXPECT_LT(std::fabs(planeDistance(*x, *y, *z)), 0.05);
+    EXPECT_GT(*s, 0.f);
+    ASSERT_LE(*side, 1u);
+    lefts += *side == 0;
+  }
+  EXPECT_EQ(lefts, markings->left.size());
+
+  // lane_visualization
+  const auto markers = out.markers.withStamp(stamp);
+  ASSERT_EQ(markers->markers.size(), 3u);
+  for (const auto& m : markers->markers) {
+    EXPECT_EQ(m.header.frame_id, frame);
+    EXPECT_EQ(m.action, visualization_msgs::Marker::ADD) << m.ns << " " << m.id;
+  }
+  EXPECT_EQ(markers->markers[0].type, visualization_msgs::Marker::TRIANGLE_LIST);
+  EXPECT_EQ(markers->markers[1].type, visualization_msgs::Marker::LINE_STRIP);
+
+  // images: the camera's optical frame, 32FC1 maps at the processing resolution, bgr8 overlay
+  for (auto* c : {&out.left, &out.right, &out.geometric}) {
+    const auto img = c->withStamp(stamp);
+    EXPECT_EQ(img->header.frame_id, kOpticalFrame);
+    EXPECT_EQ(img->encoding, "32FC1");
+    EXPECT_EQ(img->width, static_cast<uint32_t>(g->scene.width));
+    EXPECT_EQ(img->height, static_cast<uint32_t>(g->scene.height));
+    double max_v = 0;
+    cv::minMaxLoc(cv_bridge::toCvShare(img)->image, nullptr, &max_v);
+    EXPECT_GT(max_v, 0.0);
+  }
+  const auto debug = out.debug.withStamp(stamp);
+  EXPECT_EQ(debug->header.frame_id, kOpticalFrame);
+  EXPECT_EQ(debug->encoding, "bgr8");
+  EXPECT_EQ(debug->width, static_cast<uint32_t>(g->scene.width));
+  EXPECT_EQ(debug->height, static_cast<uint32_t>(g->scene.height));
+}
+
+TEST(LaneDetectorRos, EveryColourEncodingAndFloatDepth) {
+  g->prepare();
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  struct Case {
+    const char* encoding;
+    int code;  // cvtColor code from bgr, -1: none
+    bool float_depth;
+  };
+  const Case cases[] = {{"rgb8", cv::COLOR_BGR2RGB, true},
+                        {"rgba8", cv::COLOR_BGR2RGBA, false},
+                        {"bgra8", cv::COLOR_BGR2BGRA, true},
+                        {"mono8", cv::COLOR_BGR2GRAY, false}};
+  for (const Case& c : cases) {
+    cv::Mat colour;
+    cv::cvtColor(g->bgr, colour, c.code);
+    const InputSet in = g->makeInputs(colour, c.encoding, c.float_depth ? g->depth_m : g->depth_mm,
+                                      c.float_depth ? "32FC1" : "16UC1", g->scene.K);
+    const ros::Time first = g->nextStamp();
+    g->publish(in, first);
+    ASSERT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp >= first && m.valid; }); },
+                        [&] { g->publish(in); }))
+        << c.encoding << (c.float_depth ? " + 32FC1" : " + 16UC1") << ": no valid plane";
+    expectPlaneNearTruth(*out.plane.find([&](const LanePlane& m) { return m.header.stamp >= first && m.valid; }));
+  }
+}
+
+TEST(LaneDetectorRos, BadInputIsDroppedAndTheNodeSurvives) {
+  g->prepare();
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  ASSERT_TRUE(waitFor([&] { return out.plane.find([](const LanePlane& m) { return m.valid; }); },
+                      [] { g->publishGood(); }));
+
+  struct Case {
+    std::string name;
+    InputSet in;
+    bool processed;  // true: published with valid = false; false: dropped (no output)
+  };
+  std::vector<Case> cases;
+  const InputSet& good = g->good;
+  auto add = [&](const std::string& name, bool processed, const std::function<void(InputSet&)>& edit) {
+    Case c{name, good, processed};
+    edit(c.in);
+    cases.push_back(c);
+  };
+  add("wrong colour encoding", false, [](InputSet& s) { s.colour.encoding = "rgb16"; });
+  add("wrong depth encoding", false, [](InputSet& s) { s.depth.encoding = "8UC1"; });
+  add("truncated colour data", false, [](InputSet& s) { s.colour.data.resize(s.colour.data.size() / 2); });
+  add("depth step too small", false, [](InputSet& s) { s.depth.step = s.depth.width; });
+  add("colour / depth size mismatch", false, [&](InputSet& s) {
+    cv::Mat half;
+    cv::resize(g->depth_mm, half, cv::Size(), 0.5, 0.5, cv::INTER_NEAREST);
+    s.depth = g->makeInputs(g->bgr, "bgr8", half, "16UC1", g->scene.K).depth;
+  });
+  add("zero intrinsics", false, [](InputSet& s) {
+    s.info.K.fill(0.0);
+    s.info.P.fill(0.0);
+  });
+  add("empty images", false, [](InputSet& s) {
+    for (sensor_msgs::Image* m : {&s.colour, &s.depth}) {
+      m->width = m->height = m->step = 0;
+      m->data.clear();
+    }
+    s.info.width = s.info.height = 0;
+  });
+  add("template larger than the image", false, [&](InputSet& s) {
+    const cv::Rect crop(300, 340, 40, 30);
+    Intrinsics K = g->scene.K;
+    K.cx -= crop.x;
+    K.cy -= crop.y;
+    s = g->makeInputs(g->bgr(crop).clone(), "bgr8", g->depth_mm(crop).clone(), "16UC1", K);
+  });
+  add("all NaN depth", true, [&](InputSet& s) {
+    const cv::Mat nan(g->depth_m.size(), CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    s.depth = g->makeInputs(g->bgr, "bgr8", nan, "32FC1", g->scene.K).depth;
+  });
+  add("all zero depth", true, [&](InputSet& s) {
+    s.depth = g->makeInputs(g->bgr, "bgr8", cv::Mat::zeros(g->depth_mm.size(), CV_16UC1), "16UC1", g->scene.K).depth;
+  });
+  add("huge depth", true, [&](InputSet& s) {
+    const cv::Mat huge(g->depth_m.size(), CV_32FC1, cv::Scalar(1e30f));
+    s.depth = g->makeInputs(g->bgr, "bgr8", huge, "32FC1", g->scene.K).depth;
+  });
+
+  for (const Case& c : cases) {
+    const ros::Time bad = g->publish(c.in);
+    // the node is alive and still detects: a valid plane for a later good frame
+    ASSERT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > bad && m.valid; }); },
+                        [] { g->publishGood(); }))
+        << c.name << ": no valid plane afterwards";
+    const auto at_bad = out.plane.withStamp(bad);
+    if (c.processed) {
+      ASSERT_TRUE(static_cast<bool>(at_bad)) << c.name << ": frame not processed";
+      EXPECT_FALSE(at_bad->valid) << c.name << ": a plane without valid depth";
+    } else {
+      EXPECT_FALSE(static_cast<bool>(at_bad)) << c.name << ": bad frame was not dropped";
+    }
+  }
+  // the drops are logged (first one; later ones are throttled) and counted in the diagnostics
+  EXPECT_TRUE(waitFor([] { return g->logContains(rosgraph_msgs::Log::ERROR, "Dropping frame"); }));
+  EXPECT_TRUE(waitFor([] {
+    return static_cast<bool>(g->diagnostics.find([](const diagnostic_msgs::DiagnosticArray& a) {
+      for (const auto& s : a.status)
+        for (const auto& kv : s.values)
+          if (kv.key == "Frames dropped" && std::stoul(kv.value) >= 8) return true;
+      return false;
+    }));
+  }, [] { g->publishGood(); })) << "the diagnostics do not count the 8 dropped frames";
+}
+
+TEST(LaneDetectorRos, StampsGoingBackwardsResetTheDetector) {
+  g->prepare();
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  ASSERT_TRUE(waitFor([&] { return out.plane.find([](const LanePlane& m) { return m.valid; }); },
+                      [] { g->publishGood(); }));
+  const ros::Time back = g->last_stamp - ros::Duration(30.0);  // rosbag loop
+  ASSERT_TRUE(waitFor([&] { return out.plane.withStamp(back); }, [&] { g->publish(g->good, back); }))
+      << "the frame after the jump back was not processed";
+  EXPECT_TRUE(waitFor([] { return g->logContains(rosgraph_msgs::Log::INFO, "went back", "resetting"); }));
+  const ros::Time after = g->nextStamp();
+  EXPECT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp >= after && m.valid; }); },
+                      [] { g->publishGood(); }));
+}
+
+TEST(LaneDetectorRos, DynamicReconfigureAppliesFromTheNextFrame) {
+  g->prepare();
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  out.geometric.subscribe(g->nh, "response/geometric");
+  auto maxOf = [](const sensor_msgs::Image& img) {
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(cv_bridge::toCvCopy(img)->image, &lo, &hi);
+    return std::max(std::fabs(lo), std::fabs(hi));
+  };
+  auto geometricAfter = [&](const ros::Time& t) {
+    return out.geometric.find([&](const sensor_msgs::Image& m) { return m.header.stamp > t; });
+  };
+  auto planeAfter = [&](const ros::Time& t) {
+    return out.plane.find([&](const LanePlane& m) { return m.header.stamp > t; });
+  };
+  ASSERT_TRUE(waitFor([&] { return geometricAfter(ros::Time(0)); }, [] { g->publishGood(); }));
+  EXPECT_GT(maxOf(*geometricAfter(ros::Time(0))), 0.0) << "G is zero with use_depth on";
+
+  // use_depth off: the first frame published afterwards has an all-zero G
+  dynamic_reconfigure::Config applied;
+  ASSERT_TRUE(setBool("use_depth", false, &applied));
+  ros::Time t = g->last_stamp;
+  ASSERT_TRUE(waitFor([&] { return geometricAfter(t); }, [] { g->publishGood(); }));
+  EXPECT_EQ(maxOf(*geometricAfter(t)), 0.0) << "use_depth=false did not apply to the next frame";
+  ASSERT_TRUE(setBool("use_depth", true));
+  t = g->last_stamp;
+  ASSERT_TRUE(waitFor([&] { return geometricAfter(t); }, [] { g->publishGood(); }));
+  EXPECT_GT(maxOf(*geometricAfter(t)), 0.0);
+
+  // tau_c above the paint: no half-binary marking, no plane; back to the paper value: a plane
+  ASSERT_TRUE(setInt("tau_c", 255));
+  t = g->last_stamp;
+  ASSERT_TRUE(waitFor([&] { return planeAfter(t); }, [] { g->publishGood(); }));
+  EXPECT_FALSE(planeAfter(t)->valid) << "tau_c=255 did not apply to the next frame";
+  ASSERT_TRUE(setInt("tau_c", 100));
+  t = g->last_stamp;
+  EXPECT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > t && m.valid; }); },
+                      [] { g->publishGood(); }));
+
+  // sanitised values are reported back (the FALS window is odd)
+  ASSERT_TRUE(setInt("normal_window", 4, &applied));
+  int window = 0;
+  for (const auto& i : applied.ints)
+    if (i.name == "normal_window") window = i.value;
+  EXPECT_EQ(window, 5);
+  ASSERT_TRUE(setInt("normal_window", 5));
+}
+
+TEST(LaneDetectorRos, DiagnosticsReportRateAndProcessingTime) {
+  g->prepare();
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  const auto after = ros::Time::now();
+  auto report = [&](const char* status_name, const char* key) {
+    return g->diagnostics.find([&](const diagnostic_msgs::DiagnosticArray& a) {
+      if (a.header.stamp < after) return false;
+      for (const auto& s : a.status) {
+        if (s.name.find(status_name) == std::string::npos) continue;
+        for (const auto& kv : s.values)
+          if (kv.key == key && std::atof(kv.value.c_str()) > 0.0) return true;
+      }
+      return false;
+    });
+  };
+  EXPECT_TRUE(waitFor([&] { return report("processing", "Mean processing time (ms)"); }, [] { g->publishGood(); }))
+      << "no processing-time diagnostics while frames are processed";
+  EXPECT_TRUE(waitFor([&] { return report("output rate", "Actual frequency (Hz)"); }, [] { g->publishGood(); }))
+      << "no output-rate diagnostics while frames are processed";
+  auto processing = report("processing", "Mean processing time (ms)");
+  if (processing)
+    for (const auto& s : processing->status)
+      if (s.name.find("processing") != std::string::npos)
+        for (const auto& kv : s.values) std::printf("  [diagnostics] %s: %s\n", kv.key.c_str(), kv.value.c_str());
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_lane_detector_ros");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  rgbd_lane_detector::g = new rgbd_lane_detector::Harness;
+  const int result = RUN_ALL_TESTS();
+  delete rgbd_lane_detector::g;
+  ros::shutdown();
+  return result;
+}
