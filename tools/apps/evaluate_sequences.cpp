@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> seqs, kittis, nolanes, paper_map;
   std::string modes_arg = "paper,improved,paper-colour,improved-colour", params_file;
   std::string out_dir = "build/eval", markdown, csv_path, images_dir;
+  std::string picture_modes = "paper,improved";
   int picture_frame = -1, max_frames = -1;
   bool quiet = false;
   tools::CommandLine cl(
@@ -111,6 +112,8 @@ int main(int argc, char** argv) {
   cl.add("markdown", "Markdown report path (default <out>/results.md)", &markdown);
   cl.add("csv", "per-frame CSV path (default <out>/per_frame.csv)", &csv_path);
   cl.add("images", "folder of overlay pictures (default <out>/images)", &images_dir);
+  cl.add("picture-modes", "modes drawn side by side in the pictures (default paper,improved)",
+         &picture_modes);
   cl.add("picture-frame", "frame of each sequence drawn in the picture (default: middle)",
          &picture_frame);
   cl.add("max-frames", "use at most N frames per sequence", &max_frames);
@@ -286,7 +289,9 @@ int main(int argc, char** argv) {
     std::vector<cv::Mat> imgs;
     std::vector<std::string> labels;
     for (size_t m = 0; m < modes.size(); ++m) {
-      if (pictures[m].empty()) continue;
+      if (pictures[m].empty() ||
+          ("," + picture_modes + ",").find("," + modes[m].name + ",") == std::string::npos)
+        continue;
       imgs.push_back(pictures[m]);
       labels.push_back(in.name + " / " + modes[m].name);
     }

@@ -151,9 +151,9 @@ void Renderer::render(int index, RenderedFrame& out) const {
         depth[x] = centre.kind == Hit::kNone ? 0.f : static_cast<float>(centre.lambda);
         label[x] = ctx.label(centre);
         // adaptive supersampling: shade once when every sample sees the same thing
-        const uint32_t key = ctx.sampleKey(centre);
+        const uint32_t key = ss > 1 ? ctx.sampleKey(centre) : 0;
         bool uniform = true;
-        for (int j = 0; j < ss; ++j) {
+        for (int j = 0; j < ss && ss > 1; ++j) {
           for (int i = 0; i < ss; ++i) {
             Hit& h = hits[j * ss + i];
             ctx.trace(x + (i + 0.5) / ss - 0.5, y + (j + 0.5) / ss - 0.5, h);

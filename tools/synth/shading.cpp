@@ -211,7 +211,7 @@ cv::Vec3d FrameContext::groundAlbedo(const Hit& hit, double footprint) const {
     return cv::Vec3d(0.16, 0.28, 0.09) * (0.6 + 0.6 * g) + cv::Vec3d(0.08, 0.04, 0.02) * patchy;
   }
   // asphalt: fine grain + large blotches, repaired patches, cracks, tyre tracks
-  const double grain = fbm(x, z, 2.0, 8, footprint, seed + 5);
+  const double grain = fbm(x, z, 2.0, 6, footprint, seed + 5);
   const double blotch = fbm(x, z, 30.0, 3, footprint, seed + 6);
   const double speck = fbm(x, z, 0.08, 2, footprint, seed + 13);  // aggregate, 2-8 cm
   double a = s.asphalt_albedo *

@@ -41,7 +41,7 @@ inline double hashUniform(uint32_t a, uint32_t b, uint32_t c = 0, uint32_t d = 0
   return unitFromHash(hashKeys(a, b, c, d));
 }
 
-/// Standard normal sample (Box-Muller) from keys.
+/// Approximately standard normal sample (sum of 8 uniforms) from keys.
 double hashGaussian(uint32_t a, uint32_t b, uint32_t c = 0, uint32_t d = 0);
 
 /**

@@ -1,0 +1,342 @@
+// Dataset readers and the rosbag writer: real KITTI / TUM frames of ../shared/realdata (skipped
+// when absent), SYNTHIA / TUM / bag round trips through generated data, and bad input.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <camera_calibration_parsers/parse.h>
+#include <gtest/gtest.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "rgbd_lane_detector_tools/dataset/bag_writer.h"
+#include "rgbd_lane_detector_tools/dataset/dataset.h"
+#include "rgbd_lane_detector_tools/synth/renderer.h"
+#include "rgbd_lane_detector_tools/synth/sequence_writer.h"
+
+namespace rgbd_lane_detector {
+namespace tools {
+namespace {
+namespace fs = std::filesystem;
+
+std::string realdata() {
+  const char* env = std::getenv("RGBD_LANE_REALDATA");
+  return env ? env : REALDATA_DIR;
+}
+
+fs::path tempDir(const std::string& name) {
+  const fs::path p = fs::path(::testing::TempDir()) / ("rgbd_tools_" + name);
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+synth::SceneSettings smallScene() {
+  synth::SceneSettings s;
+  s.width = 160;
+  s.height = 95;
+  s.frames = 3;
+  synth::applyScenario("summer", s);
+  return s;
+}
+
+TEST(KittiReader, RealFramesDisparityToDepth) {
+  const fs::path dir = fs::path(realdata()) / "kitti2015";
+  if (!fs::exists(dir / "000000_10_disparity.png"))
+    GTEST_SKIP() << "KITTI frames not found in " << dir << " (set RGBD_LANE_REALDATA)";
+  DatasetOptions o;
+  o.path = dir.string();
+  std::string error;
+  EXPECT_EQ(detectDatasetType(o.path), "kitti");
+  auto reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_STREQ(reader->kind(), "kitti");
+  ASSERT_EQ(reader->size(), 2);
+  DatasetFrame f;
+  ASSERT_TRUE(reader->next(f)) << reader->error();
+  EXPECT_EQ(f.name, "000000_10");
+  EXPECT_EQ(f.colour.size(), cv::Size(1242, 375));
+  EXPECT_EQ(f.depth.type(), CV_32FC1);
+  EXPECT_DOUBLE_EQ(f.depth_scale, 1.0);
+  EXPECT_NEAR(f.intrinsics.fx, 721.5377, 1e-4);
+  EXPECT_NEAR(f.intrinsics.cx, 609.5593, 1e-4);
+  EXPECT_NEAR(f.intrinsics.cy, 172.854, 1e-4);
+  Intrinsics K;
+  double baseline = 0;
+  ASSERT_TRUE(readKittiCalibration((dir / "calib_cam_to_cam.txt").string(), K, baseline, error));
+  EXPECT_NEAR(baseline, 0.53273, 2e-4);
+  // depth = fx B / (raw / 256) wherever the disparity is set, NaN elsewhere
+  const cv::Mat raw = cv::imread((dir / "000000_10_disparity.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(raw.type(), CV_16UC1);
+  int valid = 0;
+  for (int v = 0; v < raw.rows; ++v) {
+    for (int u = 0; u < raw.cols; ++u) {
+      const uint16_t d = raw.at<uint16_t>(v, u);
+      const float z = f.depth.at<float>(v, u);
+      if (d == 0) {
+        ASSERT_TRUE(std::isnan(z));
+        continue;
+      }
+      ++valid;
+      ASSERT_NEAR(z, 721.5377 * baseline * 256.0 / d, 1e-3 * z);
+    }
+  }
+  const double frac = static_cast<double>(valid) / raw.total();
+  EXPECT_GT(frac, 0.1);
+  EXPECT_LT(frac, 0.4);
+  // road just below the image centre is ~1.65 m below the camera: about 8-30 m away
+  const float road = f.depth.at<float>(330, 620);
+  if (!std::isnan(road)) {
+    EXPECT_LT(road, 30.f);
+  }
+  ASSERT_TRUE(reader->next(f));
+  EXPECT_FALSE(reader->next(f));
+  EXPECT_TRUE(reader->error().empty());
+}
+
+TEST(TumFramesReader, RealOfficeFrames) {
+  const fs::path dir = fs::path(realdata()) / "tum_office";
+  if (!fs::exists(dir / "1_depth.png"))
+    GTEST_SKIP() << "TUM office frames not found in " << dir << " (set RGBD_LANE_REALDATA)";
+  DatasetOptions o;
+  o.path = dir.string();
+  std::string error;
+  auto reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_STREQ(reader->kind(), "tum_frames");
+  EXPECT_EQ(reader->size(), 2);
+  DatasetFrame f;
+  ASSERT_TRUE(reader->next(f));
+  EXPECT_EQ(f.name, "1");
+  EXPECT_EQ(f.colour.size(), cv::Size(640, 480));
+  EXPECT_EQ(f.depth.type(), CV_16UC1);
+  EXPECT_DOUBLE_EQ(f.depth_scale, 1.0 / 5000.0);
+  EXPECT_DOUBLE_EQ(f.intrinsics.fx, 520.9);
+  EXPECT_DOUBLE_EQ(f.intrinsics.cy, 249.7);
+  double minv, maxv;
+  cv::minMaxLoc(f.depth, &minv, &maxv, nullptr, nullptr, f.depth > 0);
+  EXPECT_GT(minv / 5000.0, 0.3);  // an office seen by a Kinect
+  EXPECT_LT(maxv / 5000.0, 10.0);
+}
+
+TEST(SynthiaReader, GeneratedSequenceRoundTrip) {
+  const fs::path dir = tempDir("synthia");
+  const synth::SceneSettings s = smallScene();
+  synth::Renderer r(s);
+  synth::SequenceWriter w;
+  std::string error;
+  ASSERT_TRUE(w.open(dir.string(), s, r.intrinsics(), error)) << error;
+  std::vector<synth::RenderedFrame> frames(3);
+  for (int i = 0; i < 3; ++i) {
+    r.render(i, frames[i]);
+    ASSERT_TRUE(w.write(i, frames[i], r.truth(i), error)) << error;
+  }
+  ASSERT_TRUE(w.finish(error)) << error;
+  EXPECT_TRUE(synth::sequenceUpToDate(dir.string(), s));
+  synth::SceneSettings other = s;
+  other.seed = 9;
+  EXPECT_FALSE(synth::sequenceUpToDate(dir.string(), other));
+
+  DatasetOptions o;
+  o.path = dir.string();
+  o.first = 1;
+  auto reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_STREQ(reader->kind(), "synthia");
+  EXPECT_EQ(reader->size(), 2);
+  EXPECT_FALSE(reader->groundTruthPath().empty());
+  DatasetFrame f;
+  ASSERT_TRUE(reader->next(f));
+  EXPECT_EQ(f.index, 1);
+  EXPECT_EQ(f.name, "000001");
+  EXPECT_NEAR(f.stamp, 1.0 / s.fps, 1e-12);
+  EXPECT_NEAR(f.intrinsics.fx, r.intrinsics().fx, 1e-6);
+  EXPECT_DOUBLE_EQ(f.intrinsics.cx, r.intrinsics().cx);
+  EXPECT_DOUBLE_EQ(f.depth_scale, 0.01);
+  EXPECT_EQ(cv::norm(f.colour, frames[1].bgr, cv::NORM_INF), 0.0);
+  for (int v = 0; v < f.depth.rows; ++v) {
+    for (int u = 0; u < f.depth.cols; ++u) {
+      const float z = frames[1].depth.at<float>(v, u);
+      ASSERT_NEAR(f.depth.at<uint16_t>(v, u) * 0.01, z, 0.0051);
+    }
+  }
+}
+
+TEST(TumReader, AssociationsAndCameraInfo) {
+  const fs::path dir = tempDir("tum");
+  fs::create_directories(dir / "rgb");
+  fs::create_directories(dir / "depth");
+  cv::Mat colour(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
+  cv::Mat depth(48, 64, CV_16UC1, cv::Scalar(5000 * 2));  // 2 m at TUM's 5000 / m
+  std::ofstream assoc(dir / "associations.txt");
+  assoc << "# timestamp rgb timestamp depth\n";
+  for (int i = 0; i < 3; ++i) {
+    const std::string n = std::to_string(100 + i) + ".png";
+    cv::imwrite((dir / "rgb" / n).string(), colour);
+    cv::imwrite((dir / "depth" / n).string(), depth);
+    // depth listed first on one line: the reader must tell them apart
+    if (i == 1)
+      assoc << 1.0 + i << " depth/" << n << " " << 1.001 + i << " rgb/" << n << "\n";
+    else
+      assoc << 1.0 + i << " rgb/" << n << " " << 1.001 + i << " depth/" << n << "\n";
+  }
+  assoc.close();
+  sensor_msgs::CameraInfo info;
+  info.width = 64;
+  info.height = 48;
+  info.K = {50, 0, 32, 0, 51, 24, 0, 0, 1};
+  info.P = {50, 0, 32, 0, 0, 51, 24, 0, 0, 0, 1, 0};
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  const std::string yaml = (dir / "camera.yaml").string();
+  ASSERT_TRUE(camera_calibration_parsers::writeCalibration(yaml, "test_cam", info));
+
+  DatasetOptions o;
+  o.path = dir.string();
+  o.camera_info = yaml;
+  std::string error;
+  auto reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_STREQ(reader->kind(), "tum");
+  ASSERT_EQ(reader->size(), 3);
+  DatasetFrame f;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(reader->next(f)) << reader->error();
+    EXPECT_EQ(f.name, std::to_string(100 + i));
+    EXPECT_DOUBLE_EQ(f.intrinsics.fx, 50.0);
+    EXPECT_DOUBLE_EQ(f.intrinsics.fy, 51.0);
+    EXPECT_NEAR(f.depth.at<uint16_t>(5, 5) * f.depth_scale, 2.0, 1e-12);
+  }
+  // without associations.txt: rgb.txt + depth.txt, nearest stamps within 20 ms
+  fs::remove(dir / "associations.txt");
+  std::ofstream(dir / "rgb.txt")
+      << "# rgb\n1.000 rgb/100.png\n2.000 rgb/101.png\n3.000 rgb/102.png\n";
+  std::ofstream(dir / "depth.txt")
+      << "# depth\n1.010 depth/100.png\n2.500 depth/101.png\n3.005 depth/102.png\n";
+  o.camera_info.clear();
+  reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_EQ(reader->size(), 2);  // 2.0 has no depth within 20 ms
+  ASSERT_TRUE(reader->next(f));
+  EXPECT_DOUBLE_EQ(f.intrinsics.fx, 517.3);  // TUM fr1 default
+}
+
+TEST(BagIo, WriteThenRead) {
+  const fs::path dir = tempDir("bag");
+  const synth::SceneSettings s = smallScene();
+  synth::Renderer r(s);
+  BagWriterOptions bo;
+  bo.ns = "/sensors/front";
+  bo.rate = 20.0;
+  bo.tf_parent = "base_link";
+  BagWriter w;
+  std::string error;
+  const std::string bag = (dir / "out.bag").string();
+  ASSERT_TRUE(w.open(bag, bo, error)) << error;
+  std::vector<synth::RenderedFrame> frames(3);
+  for (int i = 0; i < 3; ++i) {
+    r.render(i, frames[i]);
+    DatasetFrame f;
+    f.colour = frames[i].bgr;
+    f.depth = frames[i].depth;
+    f.depth_scale = 1.0;
+    f.intrinsics = r.intrinsics();
+    f.name = std::to_string(i);
+    ASSERT_TRUE(w.write(f, error)) << error;
+  }
+  w.close();
+  EXPECT_EQ(detectDatasetType(bag), "bag");
+  DatasetOptions o;
+  o.path = bag;  // default topic names match by suffix under the namespace
+  auto reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_EQ(reader->size(), 3);
+  DatasetFrame f;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(reader->next(f)) << reader->error();
+    EXPECT_EQ(f.format, PixelFormat::kBgr8);
+    EXPECT_EQ(cv::norm(f.colour, frames[i].bgr, cv::NORM_INF), 0.0);
+    ASSERT_EQ(f.depth.type(), CV_16UC1);
+    EXPECT_DOUBLE_EQ(f.depth_scale, 0.001);
+    const float z = frames[i].depth.at<float>(80, 80);
+    ASSERT_GT(z, 0.f);
+    EXPECT_NEAR(f.depth.at<uint16_t>(80, 80) * 0.001, z, 0.0005);
+    EXPECT_NEAR(f.intrinsics.fx, r.intrinsics().fx, 1e-9);
+    EXPECT_NEAR(f.stamp, bo.start_time + i / bo.rate, 1e-6);
+  }
+  EXPECT_FALSE(reader->next(f));
+  EXPECT_TRUE(reader->error().empty());
+  // an absent topic is a clear error naming the available ones
+  o.depth_topic = "depth/image_raw";
+  reader = openDataset(o, error);
+  EXPECT_FALSE(reader);
+  EXPECT_NE(error.find("/sensors/front/rgb/image_rect_color"), std::string::npos);
+}
+
+TEST(Readers, BadInputGivesClearErrors) {
+  std::string error;
+  DatasetOptions o;
+  o.path = "/nonexistent/sequence";
+  EXPECT_FALSE(openDataset(o, error));
+  EXPECT_NE(error.find("/nonexistent/sequence"), std::string::npos);
+  const fs::path empty = tempDir("empty");
+  o.path = empty.string();
+  EXPECT_FALSE(openDataset(o, error));
+  EXPECT_NE(error.find("cannot tell the format"), std::string::npos);
+  o.type = "synthia";
+  EXPECT_FALSE(openDataset(o, error));
+  EXPECT_NE(error.find("no frames"), std::string::npos);
+  o.type = "vhs";
+  EXPECT_FALSE(openDataset(o, error));
+  // a SYNTHIA folder without intrinsics
+  fs::create_directories(empty / "RGB/Stereo_Left/Omni_F");
+  fs::create_directories(empty / "Depth/Stereo_Left/Omni_F");
+  cv::imwrite((empty / "RGB/Stereo_Left/Omni_F/000000.png").string(), cv::Mat(8, 8, CV_8UC3));
+  cv::imwrite((empty / "Depth/Stereo_Left/Omni_F/000000.png").string(), cv::Mat(8, 8, CV_16UC1));
+  o.type = "auto";
+  EXPECT_FALSE(openDataset(o, error));
+  EXPECT_NE(error.find("intrinsics"), std::string::npos);
+  // an 8-bit depth image is refused when read
+  fs::create_directories(empty / "CameraParams");
+  std::ofstream(empty / "CameraParams/intrinsics.txt") << "100 4 4 0.8\n";
+  cv::imwrite((empty / "Depth/Stereo_Left/Omni_F/000000.png").string(), cv::Mat(8, 8, CV_8UC1));
+  auto reader = openDataset(o, error);
+  ASSERT_TRUE(reader) << error;
+  DatasetFrame f;
+  EXPECT_FALSE(reader->next(f));
+  EXPECT_NE(reader->error().find("16-bit"), std::string::npos);
+  Intrinsics K;
+  EXPECT_FALSE(readCameraInfoYaml("/nonexistent.yaml", K, nullptr, error));
+}
+
+TEST(Readers, KittiDisparityConversion) {
+  cv::Mat disp(1, 3, CV_16UC1);
+  disp.at<uint16_t>(0) = 0;
+  disp.at<uint16_t>(1) = 256 * 10;  // 10 px
+  disp.at<uint16_t>(2) = 128;       // 0.5 px
+  cv::Mat depth;
+  kittiDisparityToDepth(disp, 700.0, 0.5, depth);
+  EXPECT_TRUE(std::isnan(depth.at<float>(0)));
+  EXPECT_NEAR(depth.at<float>(1), 35.0, 1e-4);
+  EXPECT_NEAR(depth.at<float>(2), 700.0, 1e-2);
+}
+
+TEST(BagIo, DepthConversions) {
+  cv::Mat cm(1, 3, CV_16UC1);
+  cm.at<uint16_t>(0) = 0;
+  cm.at<uint16_t>(1) = 1234;  // 12.34 m
+  cm.at<uint16_t>(2) = 9000;  // 90 m: beyond 16-bit millimetres
+  cv::Mat mm, m;
+  BagWriter::depthToMillimetres(cm, 0.01, mm);
+  EXPECT_EQ(mm.at<uint16_t>(0), 0);
+  EXPECT_EQ(mm.at<uint16_t>(1), 12340);
+  EXPECT_EQ(mm.at<uint16_t>(2), 0);
+  BagWriter::depthToMetres(cm, 0.01, m);
+  EXPECT_TRUE(std::isnan(m.at<float>(0)));
+  EXPECT_NEAR(m.at<float>(2), 90.0, 1e-4);
+}
+
+}  // namespace
+}  // namespace tools
+}  // namespace rgbd_lane_detector
