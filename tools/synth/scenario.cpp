@@ -180,10 +180,10 @@ bool applyScenario(const std::string& name, SceneSettings& s) {
     p.ego_left = p.ego_right = MarkerKind::kDashed;
   } else if (name == "shadows") {
     p.lanes_right = 1;
-    p.sun_elevation_deg = 22.0;
+    p.sun_elevation_deg = 28.0;
     p.sun_azimuth_deg = 70.0;
-    p.ambient = 0.45;
-    p.direct = 0.75;
+    p.ambient = 0.42;
+    p.direct = 0.95;
     p.vehicles = 5;
     p.trucks = 2;
     p.pole_period = 35.0;

@@ -225,7 +225,7 @@ cv::Vec3d FrameContext::groundAlbedo(const Hit& hit, double footprint) const {
                  s1 = s0 + 1.5 + 3.0 * hashUniform(ch, 2);
     const double t0 = l + cell_t * s.lane_width + 1.6 * hashUniform(ch, 3);
     const double t1 = t0 + 0.6 + 1.4 * hashUniform(ch, 4);
-    if (sr >= s0 && sr <= s1 && t >= t0 && t <= t1) a *= hashUniform(ch, 5) < 0.6 ? 0.78 : 1.18;
+    if (sr >= s0 && sr <= s1 && t >= t0 && t <= t1) a *= hashUniform(ch, 5) < 0.6 ? 0.86 : 1.1;
   }
   if (s.crack_density > 0) {
     const double region = fbm(x, z, 25.0, 2, footprint, seed + 8);
