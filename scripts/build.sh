@@ -2,12 +2,12 @@
 # Create the catkin workspace (repository symlinked into src) and build it with catkin_make.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-WS=${1:-$ROOT/build/ws}
+WS=$(realpath -m "${1:-$ROOT/build/ws}")
 shift || true
 export PATH=/usr/bin:/bin:$PATH
 mkdir -p "$WS/src"
 [ -e "$WS/src/rgbd_lane_detector" ] || ln -s "$ROOT" "$WS/src/rgbd_lane_detector"
-LOG=$WS/../catkin_make.log
+LOG=$(dirname "$WS")/catkin_make.log
 cd "$WS"
 t0=$(date +%s)
 if ! catkin_make -j"$(nproc)" -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
