@@ -1,11 +1,14 @@
 /**
  * @file fals_normals.h
- * @brief Stage 3: FALS surface normals (Badino et al. 2011), M^-1 precomputed per pixel.
+ * @brief Stage 3: FALS surface normals (Badino et al. 2011), and the geometric map G fused.
  */
 #pragma once
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
+#include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
@@ -15,14 +18,24 @@ namespace rgbd_lane_detector {
  *
  * For each pixel and its w x w window: M = sum v_i v_i^T over unit rays (intrinsics only),
  * b = sum v_i / r_i over the ranges, n = M^-1 b, normalised and oriented toward the camera
- * (n . p < 0). M^-1 is computed once per (size, intrinsics, window) and reused. A window with
- * invalid points uses M built from its valid rays only; fewer than window-side valid points,
- * or an ill-conditioned M, gives a NaN normal.
+ * (n . p < 0). A window with invalid points uses its valid pixels only; fewer than 3 of them,
+ * or (when some are missing) valid pixels all in one row or one column, gives a NaN normal.
+ *
+ * Computed exactly, but not as written: with w = ((u - cx) / fx, (v - cy) / fy, 1) the pixel's
+ * ray, k = 1 / |w|^2 and (du, dv) a window pixel's offset from the centre, M = B Q B^T and
+ * b = B s where B = [w_centre, e_x / fx, e_y / fy], Q = sum k (1, du, dv)(1, du, dv)^T and
+ * s = sum (k / z)(1, du, dv) (v / r = k w / z for a point on its ray). So n = B^-T Q^-1 s.
+ * Q is well conditioned (about diag(25, 50, 50) k for 5x5) where M has a condition number near
+ * 1e5. For windows without missing pixels Q depends on the pixel only: adj(Q) is precomputed
+ * (in double) and s is a box and moment filter (separable, float). Windows with missing pixels
+ * (holes, the edge of the valid depth) build Q from their own moments; where their valid pixels
+ * form a thin crescent and Q is ill conditioned (det Q <= K0 Kuu Kvv / 4) they are solved
+ * directly in double.
  */
 class FalsNormals {
  public:
   /**
-   * @brief Prepare the per-pixel M^-1 for an image geometry (no-op when unchanged).
+   * @brief Prepare the per-pixel tables for an image geometry (no-op when unchanged).
    * @param[in] size image size.
    * @param[in] K intrinsics of the points' image (after any resampling).
    * @param[in] window window side, 3, 5 or 7.
@@ -40,19 +53,48 @@ class FalsNormals {
    */
   void compute(const cv::Mat& points, const cv::Range& rows, cv::Mat& normals);
 
+  /**
+   * @brief The geometric map G (Eq. 2, geometricValue()) of the rows @p rows straight from the
+   * normals, which are kept only when @p normals is given (one pass, no normal image).
+   * @param[in] points CV_32FC3 organised points of the configured size.
+   * @param[in] rows rows to compute; other rows of @p G are 0 when G is (re)allocated.
+   * @param[in] p alpha, beta, T_D, depth term and up axis are read.
+   * @param[out] G CV_32FC1.
+   * @param[out] normals optional CV_32FC3 normals as compute() gives them.
+   */
+  void computeGeometric(const cv::Mat& points, const cv::Range& rows, const Params& p, cv::Mat& G,
+                        cv::Mat* normals = nullptr);
+
   /// Unit ray through each pixel (CV_32FC3), valid after configure().
   const cv::Mat& rays() const { return rays_; }
   int window() const { return window_; }
 
  private:
+  struct Output;
+  void run(const cv::Mat& points, const cv::Range& rows, const Output& out);
+  bool prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c) const;
+  bool solveWindow(int x, int y, const float* const* kv, const float* const* t,
+                   const float* const* c, float n[3]);
+
   cv::Size size_;
   Intrinsics K_;
   int window_ = 0;
   cv::Mat col_map_, row_map_;
-  cv::Mat rays_;   ///< CV_32FC3 unit rays
-  cv::Mat m_inv_;  ///< CV_32FC(6): symmetric M^-1 per pixel (xx, xy, xz, yy, yz, zz)
-  cv::Mat q_;      ///< CV_32FC4: v/r per pixel (3) and validity (1)
-  cv::Mat col_sums_;  ///< CV_32FC4 one row of vertical window sums
+  bool uniform_ = true;  ///< maps are x -> a + step x: the fast separable path applies
+  float step_u_ = 1.f, step_v_ = 1.f;
+  std::vector<float> ax_, ay_;      ///< ray coordinates (u - cx) / fx per column, per row
+  std::vector<int> src_u_, src_v_;  ///< source pixel of each column, row
+  std::vector<float> ncols_;        ///< window columns inside the image, per column
+  cv::Mat rays_;                    ///< CV_32FC3 unit rays
+  cv::Mat k_;                       ///< CV_32FC1 1 / |w|^2 per pixel
+  cv::Mat table_;                   ///< CV_32FC1 6 planes of H rows: adj(Q) of whole windows
+  cv::Mat prep_;                    ///< CV_32FC1 ring of prepared rows: k valid, k / z, valid
+  std::vector<uint8_t> holes_;      ///< per ring slot: the prepared row has invalid pixels
+  cv::Mat vert_;                    ///< CV_32FC1 vertical sums of one row (8 padded planes)
+  std::vector<int> slow_;           ///< columns of the current row left to the exact path
+  static constexpr int kColumnSums = 8;
+  std::vector<double> column_;   ///< exact path: per column, sums over the window's rows
+  std::vector<int> column_row_;  ///< row whose sums column_ holds, per column
 };
 
 }  // namespace rgbd_lane_detector

@@ -8,8 +8,11 @@
 #include <opencv2/rgbd.hpp>
 #endif
 
+#include <Eigen/Dense>
+
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/fals_normals.h"
+#include "rgbd_lane_detector/response_map.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -193,6 +196,166 @@ TEST(FalsNormals, AgreesWithOpenCvContribFals) {
   EXPECT_LT(sum / count, 0.006);
 }
 #endif
+
+// FALS as written, in double: per pixel, M and b over the window's valid pixels (unit rays of the
+// source pixels, ranges |p|), n = M^-1 b oriented toward the camera; NaN below 3 valid pixels or
+// when missing pixels leave the valid ones in one row or one column.
+cv::Mat referenceFals(const cv::Mat& pts, const Intrinsics& K, int window,
+                      const std::vector<int>& src_u, const std::vector<int>& src_v) {
+  const int h = window / 2;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::Mat out(pts.size(), CV_32FC3, cv::Scalar(nan, nan, nan));
+  auto ray = [&](int x, int y) {
+    return Eigen::Vector3d((src_u[x] - K.cx) / K.fx, (src_v[y] - K.cy) / K.fy, 1.0).normalized();
+  };
+  for (int y = 0; y < pts.rows; ++y)
+    for (int x = 0; x < pts.cols; ++x) {
+      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d b = Eigen::Vector3d::Zero();
+      int n = 0, full = 0, x0 = pts.cols, x1 = -1, y0 = pts.rows, y1 = -1;
+      for (int yy = std::max(0, y - h); yy <= std::min(pts.rows - 1, y + h); ++yy)
+        for (int xx = std::max(0, x - h); xx <= std::min(pts.cols - 1, x + h); ++xx) {
+          ++full;
+          const cv::Vec3f p = pts.at<cv::Vec3f>(yy, xx);
+          if (!(p[2] > 0.f) || !std::isfinite(p[2])) continue;
+          const Eigen::Vector3d v = ray(xx, yy);
+          M += v * v.transpose();
+          b += v / std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
+          ++n;
+          x0 = std::min(x0, xx);
+          x1 = std::max(x1, xx);
+          y0 = std::min(y0, yy);
+          y1 = std::max(y1, yy);
+        }
+      if (n < 3 || (n < full && (x1 == x0 || y1 == y0))) continue;
+      Eigen::Vector3d nn = M.ldlt().solve(b).normalized();
+      const cv::Vec3f p = pts.at<cv::Vec3f>(y, x);
+      const Eigen::Vector3d ref = p[2] > 0.f ? Eigen::Vector3d(p[0], p[1], p[2]) : ray(x, y);
+      if (nn.dot(ref) > 0) nn = -nn;
+      out.at<cv::Vec3f>(y, x) = cv::Vec3f(nn.x(), nn.y(), nn.z());
+    }
+  return out;
+}
+
+// A wavy surface (not a plane: every window's least-squares fit matters) with hole blobs,
+// isolated holes, a single valid row and column among holes, and a step edge.
+cv::Mat wavyPoints(const Intrinsics& K, cv::Size size, const std::vector<int>& src_u,
+                   const std::vector<int>& src_v) {
+  cv::Mat pts(size, CV_32FC3);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::RNG rng(5);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const double rx = (src_u[x] - K.cx) / K.fx, ry = (src_v[y] - K.cy) / K.fy;
+      double z = 4.0 + 0.3 * std::sin(0.11 * x) * std::cos(0.07 * y) + 0.02 * y;
+      if (x > size.width / 2) z += 0.5;  // step edge
+      const bool hole = rng.uniform(0.0, 1.0) < 0.02 || std::hypot(x - 40, y - 30) < 6 ||
+                        (y >= 50 && y < 60 && y != 55 && x >= 70 && x < 80) ||
+                        (y >= 50 && y < 60 && x == 90);
+      pts.at<cv::Vec3f>(y, x) =
+          hole ? cv::Vec3f(nan, nan, nan)
+               : cv::Vec3f(static_cast<float>(rx) * static_cast<float>(z),
+                           static_cast<float>(ry) * static_cast<float>(z), static_cast<float>(z));
+    }
+  return pts;
+}
+
+// Same NaN pattern, and angles within tol_rad. Float points alone limit a 5x5 fit at 4 m to about
+// 1e-5 rad; the float box sums add a few 1e-5 at clipped (border) windows.
+void expectMatchesReference(const cv::Mat& normals, const cv::Mat& ref, double tol_rad) {
+  int both = 0, mismatched_nan = 0;
+  double worst = 0;
+  for (int y = 0; y < ref.rows; ++y)
+    for (int x = 0; x < ref.cols; ++x) {
+      const cv::Vec3f a = normals.at<cv::Vec3f>(y, x), b = ref.at<cv::Vec3f>(y, x);
+      if (std::isnan(a[0]) != std::isnan(b[0])) {
+        ++mismatched_nan;
+        continue;
+      }
+      if (std::isnan(b[0])) continue;
+      const Eigen::Vector3d da(a[0], a[1], a[2]), db(b[0], b[1], b[2]);
+      const double e = std::atan2(da.cross(db).norm(), da.dot(db));
+      worst = std::max(worst, e);
+      ++both;
+    }
+  EXPECT_EQ(mismatched_nan, 0);
+  EXPECT_GT(both, ref.total() / 2);
+  EXPECT_LT(worst, tol_rad);
+}
+
+TEST(FalsNormals, EqualsTheDefinitionInDoublePrecision) {
+  const Intrinsics K{266.37, 266.37, 320.0, 190.0};
+  const cv::Size size(131, 97);  // odd width: vector bodies and scalar tails
+  std::vector<int> su(size.width), sv(size.height);
+  for (int x = 0; x < size.width; ++x) su[x] = 250 + x;
+  for (int y = 0; y < size.height; ++y) sv[y] = 200 + y;
+  // the same geometry as a crop: pixel (x, y) has source (250 + x, 200 + y)
+  const Intrinsics Kc{K.fx, K.fy, K.cx - 250, K.cy - 200};
+  const cv::Mat pts = wavyPoints(K, size, su, sv);
+  for (int window : {3, 5, 7}) {
+    SCOPED_TRACE(testing::Message() << "window " << window);
+    FalsNormals fals;
+    fals.configure(size, Kc, window);
+    cv::Mat normals;
+    fals.compute(pts, cv::Range(0, size.height), normals);
+    expectMatchesReference(normals, referenceFals(pts, K, window, su, sv), 2e-4);
+  }
+}
+
+TEST(FalsNormals, EqualsTheDefinitionWhenResampled) {
+  // nearest resampling by 2 (even steps, the separable path) and by 1.6 (uneven steps)
+  const Intrinsics K{532.74, 532.74, 640.0, 380.0};
+  for (double ratio : {2.0, 1.6}) {
+    SCOPED_TRACE(testing::Message() << "ratio " << ratio);
+    const cv::Size size(120, 80);
+    cv::Mat col_map(1, size.width, CV_32SC1), row_map(1, size.height, CV_32SC1);
+    std::vector<int> su(size.width), sv(size.height);
+    for (int x = 0; x < size.width; ++x) su[x] = col_map.at<int>(x) = 500 + int((x + 0.5) * ratio);
+    for (int y = 0; y < size.height; ++y) sv[y] = row_map.at<int>(y) = 400 + int((y + 0.5) * ratio);
+    const cv::Mat pts = wavyPoints(K, size, su, sv);
+    FalsNormals fals;
+    fals.configure(size, K, 5, col_map, row_map);
+    cv::Mat normals;
+    fals.compute(pts, cv::Range(0, size.height), normals);
+    expectMatchesReference(normals, referenceFals(pts, K, 5, su, sv), 2e-4);
+  }
+}
+
+TEST(FalsNormals, GeometricMapEqualsTheMapOfTheNormals) {
+  const Intrinsics K{266.37, 266.37, 60.0, 40.0};
+  const cv::Size size(125, 83);
+  std::vector<int> su(size.width), sv(size.height);
+  for (int x = 0; x < size.width; ++x) su[x] = x;
+  for (int y = 0; y < size.height; ++y) sv[y] = y;
+  const cv::Mat pts = wavyPoints(K, size, su, sv);
+  FalsNormals fals;
+  fals.configure(size, K, 5);
+  cv::Mat normals, G_ref, G, kept;
+  fals.compute(pts, cv::Range(0, size.height), normals);
+  for (DepthTerm term : {DepthTerm::kNearHigh, DepthTerm::kFarHigh}) {
+    Params p;
+    p.depth_term = term;
+    p.depth_threshold = 4.2;  // both branches of Eq. 2 occur
+    p.up_x = 0.1;
+    p.up_y = -0.99;
+    p.up_z = 0.1;
+    p = sanitize(p);
+    geometricMap(pts, normals, p, cv::Range(3, 80), G_ref);
+    fals.computeGeometric(pts, cv::Range(3, 80), p, G, &kept);
+    EXPECT_LT(cv::norm(G, G_ref, cv::NORM_INF), 1e-5);
+    cv::Mat G2;
+    fals.computeGeometric(pts, cv::Range(3, 80), p, G2);  // without normals: same G
+    EXPECT_LT(cv::norm(G2, G_ref, cv::NORM_INF), 1e-5);
+    for (int y = 3; y < 80; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const cv::Vec3f a = kept.at<cv::Vec3f>(y, x), b = normals.at<cv::Vec3f>(y, x);
+        ASSERT_EQ(std::isnan(a[0]), std::isnan(b[0]));
+        if (!std::isnan(b[0])) {
+          ASSERT_EQ(a, b);
+        }
+      }
+  }
+}
 
 }  // namespace
 }  // namespace rgbd_lane_detector
