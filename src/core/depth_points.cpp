@@ -1,9 +1,71 @@
 #include "rgbd_lane_detector/depth_points.h"
 
 #include <algorithm>
+#include <cstring>
+#include <type_traits>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define RLD_POINTS_AVX2 1
+#define RLD_AVX2 __attribute__((target("avx2")))
+#endif
 
 namespace rgbd_lane_detector {
 namespace {
+
+#ifdef RLD_POINTS_AVX2
+// Four points from x, y, z lanes to interleaved x y z x y z ... (12 floats at dst).
+RLD_AVX2 inline void store4(float* dst, __m128 x, __m128 y, __m128 z) {
+  const __m128 a = _mm_unpacklo_ps(x, y);                                 // x0 y0 x1 y1
+  const __m128 b = _mm_unpackhi_ps(x, y);                                 // x2 y2 x3 y3
+  const __m128 t = _mm_unpacklo_ps(z, x);                                 // z0 x0 z1 x1
+  const __m128 u = _mm_shuffle_ps(a, t, _MM_SHUFFLE(2, 2, 3, 3));         // y1 y1 z1 z1
+  const __m128 w = _mm_shuffle_ps(z, b, _MM_SHUFFLE(3, 2, 3, 2));         // z2 z3 x3 y3
+  _mm_storeu_ps(dst, _mm_shuffle_ps(a, t, _MM_SHUFFLE(3, 0, 1, 0)));      // x0 y0 z0 x1
+  _mm_storeu_ps(dst + 4, _mm_shuffle_ps(u, b, _MM_SHUFFLE(1, 0, 2, 0)));  // y1 z1 x2 y2
+  _mm_storeu_ps(dst + 8, _mm_shuffle_ps(w, w, _MM_SHUFFLE(1, 3, 2, 0)));  // z2 x3 y3 z3
+}
+
+// Eight pixels of one row (no column map), the scalar code's values lane for lane: the depth is
+// decoded in double and rounded once, x = float((u - cx) / fx) d, y = float((v - cy) / fy) d.
+template <typename T>
+RLD_AVX2 void rowAvx2(const T* src, int w, const DepthDecoder& dec, double cx, double inv_fx,
+                      float ry, float* dst, int& done) {
+  const __m256d scale = _mm256_set1_pd(dec.scale), lo = _mm256_set1_pd(dec.min_depth),
+                hi = _mm256_set1_pd(dec.max_depth), zero = _mm256_setzero_pd(),
+                inf = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
+                vcx = _mm256_set1_pd(cx), vfx = _mm256_set1_pd(inv_fx);
+  const __m128 vry = _mm_set1_ps(ry), nan = _mm_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  int x = 0;
+  for (; x + 8 <= w; x += 8) {
+    for (int half = 0; half < 2; ++half) {
+      const int u = x + 4 * half;
+      __m256d d, ok;
+      if (std::is_same<T, uint16_t>::value) {
+        uint64_t raw4;
+        std::memcpy(&raw4, src + u, 8);
+        const __m128i r = _mm_cvtepu16_epi32(_mm_cvtsi64_si128(static_cast<int64_t>(raw4)));
+        const __m256d rd = _mm256_cvtepi32_pd(r);
+        d = _mm256_mul_pd(rd, scale);
+        ok = _mm256_cmp_pd(rd, zero, _CMP_NEQ_OQ);
+      } else {
+        d = _mm256_cvtps_pd(_mm_loadu_ps(reinterpret_cast<const float*>(src) + u));
+        ok = _mm256_and_pd(_mm256_cmp_pd(d, zero, _CMP_GT_OQ), _mm256_cmp_pd(d, inf, _CMP_LT_OQ));
+      }
+      ok = _mm256_and_pd(
+          ok, _mm256_and_pd(_mm256_cmp_pd(d, lo, _CMP_GE_OQ), _mm256_cmp_pd(d, hi, _CMP_LE_OQ)));
+      const __m128 okf = _mm256_cvtpd_ps(_mm256_and_pd(ok, _mm256_set1_pd(1.0)));
+      const __m128 keep = _mm_cmpeq_ps(okf, _mm_set1_ps(1.f));
+      const __m128 df = _mm256_cvtpd_ps(d);
+      const __m256d us = _mm256_add_pd(_mm256_set1_pd(u), _mm256_setr_pd(0, 1, 2, 3));
+      const __m128 ax = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_sub_pd(us, vcx), vfx));
+      auto sel = [&](__m128 v) RLD_AVX2 { return _mm_blendv_ps(nan, v, keep); };
+      store4(dst + 3 * u, sel(_mm_mul_ps(ax, df)), sel(_mm_mul_ps(vry, df)), sel(df));
+    }
+  }
+  done = x;
+}
+#endif
 
 template <typename T>
 void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrinsics& K, int r0,
@@ -12,21 +74,29 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
   const double inv_fx = 1.0 / K.fx;
   const double inv_fy = 1.0 / K.fy;
   const int w = points.cols;
+#ifdef RLD_POINTS_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;
     const T* src = depth.ptr<T>(sy);
     float* dst = points.ptr<float>(y);
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
-    for (int x = 0; x < w; ++x, dst += 3) {
+    int x = 0;
+#ifdef RLD_POINTS_AVX2
+    if (avx2 && !col_map) rowAvx2<T>(src, w, decode, K.cx, inv_fx, ry, dst, x);
+#endif
+    for (; x < w; ++x) {
       const int sx = col_map ? col_map[x] : x;
       const float d = decode(src[sx]);
+      float* q = dst + 3 * x;
       if (std::isnan(d)) {
-        dst[0] = dst[1] = dst[2] = nan;
+        q[0] = q[1] = q[2] = nan;
         continue;
       }
-      dst[0] = static_cast<float>((sx - K.cx) * inv_fx) * d;
-      dst[1] = ry * d;
-      dst[2] = d;
+      q[0] = static_cast<float>((sx - K.cx) * inv_fx) * d;
+      q[1] = ry * d;
+      q[2] = d;
     }
   }
 }

@@ -112,5 +112,41 @@ TEST(DepthPoints, HoleFillingStaysOnThePlaneAndOnTheRay) {
   EXPECT_TRUE(std::isnan(p.at<cv::Vec3f>(5, 5)[2]));    // no valid ends: left invalid
 }
 
+// Rows are converted eight pixels at a time where the CPU allows, the rest one by one: every
+// point must be the scalar definition's, bit for bit (odd width: both paths in every row).
+TEST(DepthPoints, EveryPixelIsTheScalarDefinitionBitForBit) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::RNG rng(9);
+  cv::Mat mm(7, 83, CV_16UC1), metres(7, 83, CV_32FC1);
+  rng.fill(mm, cv::RNG::UNIFORM, 0, 65536);
+  rng.fill(metres, cv::RNG::UNIFORM, -1.0, 150.0);
+  for (int i = 0; i < 60; ++i) {
+    mm.at<uint16_t>(rng.uniform(0, 7), rng.uniform(0, 83)) = 0;
+    metres.at<float>(rng.uniform(0, 7), rng.uniform(0, 83)) =
+        i % 3 == 0 ? nan : (i % 3 == 1 ? std::numeric_limits<float>::infinity() : 0.f);
+  }
+  DepthDecoder dec;
+  dec.scale = 0.0013;
+  dec.min_depth = 0.2;
+  dec.max_depth = 80.0;
+  for (const cv::Mat& depth : {mm, metres}) {
+    cv::Mat p;
+    ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 7), p));
+    for (int v = 0; v < 7; ++v)
+      for (int u = 0; u < 83; ++u) {
+        const float d = depth.type() == CV_16UC1 ? dec(depth.at<uint16_t>(v, u))
+                                                 : dec(depth.at<float>(v, u));
+        const cv::Vec3f q = p.at<cv::Vec3f>(v, u);
+        if (std::isnan(d)) {
+          EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2]));
+          continue;
+        }
+        EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
+        EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d);
+        EXPECT_EQ(q[2], d);
+      }
+  }
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
