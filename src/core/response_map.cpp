@@ -2,6 +2,11 @@
 
 #include <algorithm>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define RLD_RM_AVX2 1
+#endif
+
 namespace rgbd_lane_detector {
 
 void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p,
@@ -24,6 +29,24 @@ void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p
   }
 }
 
+namespace {
+
+#ifdef RLD_RM_AVX2
+__attribute__((target("avx2"))) int fuseAvx2(const float* m, const float* g, float tau, int n,
+                                             float* r) {
+  const __m256 t = _mm256_set1_ps(tau);
+  int x = 0;
+  for (; x + 8 <= n; x += 8) {
+    const __m256 mv = _mm256_loadu_ps(m + x);
+    const __m256 below = _mm256_cmp_ps(mv, t, _CMP_LT_OQ);
+    _mm256_storeu_ps(r + x, _mm256_blendv_ps(_mm256_add_ps(mv, _mm256_loadu_ps(g + x)), mv, below));
+  }
+  return x;
+}
+#endif
+
+}  // namespace
+
 void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
                   cv::Mat& R) {
   if (R.data != M.data && (R.size() != M.size() || R.type() != CV_32FC1)) {
@@ -31,11 +54,18 @@ void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Ran
     R.setTo(0);
   }
   const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, M.rows);
+#ifdef RLD_RM_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
   for (int y = r0; y < r1; ++y) {
     const float* m = M.ptr<float>(y);
     const float* g = G.ptr<float>(y);
     float* r = R.ptr<float>(y);
-    for (int x = 0; x < M.cols; ++x) r[x] = fusedValue(m[x], g[x], tau_g);
+    int x = 0;
+#ifdef RLD_RM_AVX2
+    if (avx2) x = fuseAvx2(m, g, tau_g, M.cols, r);
+#endif
+    for (; x < M.cols; ++x) r[x] = fusedValue(m[x], g[x], tau_g);
   }
 }
 
