@@ -159,7 +159,7 @@ Prepared prepare(const Data& d) {
   depthToPoints(f.depth, dec, f.intrinsics, cv::Range(0, d.height), p.pts);
   FalsNormals fals;
   fals.configure(p.pts.size(), f.intrinsics, d.params.normal_window);
-  fals.compute(p.pts, roiRows(d), p.normals);
+  fals.computeGeometric(p.pts, roiRows(d), d.params, p.G);
   NccMatcher m;
   m.match(p.hb, d.roi, d.left, d.right, p.ml, p.mr);
   return p;
@@ -170,8 +170,8 @@ void BM_Stage_Normals(benchmark::State& state) {
   Prepared p = prepare(d);
   FalsNormals fals;
   fals.configure(p.pts.size(), d.frames[0].K, d.params.normal_window);
-  for (auto _ : state) {
-    fals.compute(p.pts, roiRows(d), p.normals);
+  for (auto _ : state) {  // as detect() runs it: G straight from the normals
+    fals.computeGeometric(p.pts, roiRows(d), d.params, p.G);
     benchmark::ClobberMemory();
   }
   setLabel(state, d);
@@ -192,8 +192,7 @@ void BM_Stage_Response(benchmark::State& state) {
   Data& d = data(static_cast<int>(state.range(0)));
   Prepared p = prepare(d);
   const float tau = static_cast<float>(d.params.tau_g);
-  for (auto _ : state) {
-    geometricMap(p.pts, p.normals, d.params, roiRows(d), p.G);
+  for (auto _ : state) {  // G comes with the normals
     fuseResponse(p.ml, p.G, tau, roiRows(d), p.ml);
     fuseResponse(p.mr, p.G, tau, roiRows(d), p.mr);
     benchmark::ClobberMemory();

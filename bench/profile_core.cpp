@@ -1,6 +1,7 @@
 // Fixed-work driver for instruction-count profiling of one stage or the whole detect():
 //   valgrind --tool=callgrind --toggle-collect='*measured*' profile_core matching 1280 10
 // (Google Benchmark picks its own iteration counts, which makes callgrind totals hard to compare.)
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -26,8 +27,10 @@ __attribute__((noinline)) void measured(int n, F&& f) {
 
 int main(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s detect|halfbinary|points|normals|matching|response WIDTH N\n",
-                 argv[0]);
+    std::fprintf(
+        stderr,
+        "usage: %s detect|halfbinary|points|normals|normals_only|matching|response WIDTH N\n",
+        argv[0]);
     return 2;
   }
   const std::string stage = argv[1];
@@ -50,10 +53,11 @@ int main(int argc, char** argv) {
   depthToPoints(f.depth, dec, f.intrinsics, cv::Range(0, f.colour.rows), pts);
   FalsNormals fals;
   fals.configure(pts.size(), f.intrinsics, params.normal_window);
-  fals.compute(pts, rows, normals);
+  fals.computeGeometric(pts, rows, params, G);
   NccMatcher matcher;
   matcher.match(hb, r.roi, det.leftTemplate(), det.rightTemplate(), ml, mr);
   bool ok = true;
+  const auto start = std::chrono::steady_clock::now();
   measured(n, [&](int i) {
     if (stage == "detect") {
       det.detect(frames[i % 4].frame(), r);
@@ -61,12 +65,13 @@ int main(int argc, char** argv) {
       halfBinary(f.colour, f.format, params.tau_c, rows, hb);
     } else if (stage == "points") {
       depthToPoints(f.depth, dec, f.intrinsics, rows, pts);
-    } else if (stage == "normals") {
+    } else if (stage == "normals") {  // as detect() runs it: G from the normals
+      fals.computeGeometric(pts, rows, params, G);
+    } else if (stage == "normals_only") {
       fals.compute(pts, rows, normals);
     } else if (stage == "matching") {
       matcher.match(hb, r.roi, det.leftTemplate(), det.rightTemplate(), ml, mr);
     } else if (stage == "response") {
-      geometricMap(pts, normals, params, rows, G);
       fuseResponse(ml, G, static_cast<float>(params.tau_g), rows, ml);
       fuseResponse(mr, G, static_cast<float>(params.tau_g), rows, mr);
     } else {
@@ -77,7 +82,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "unknown stage %s\n", stage.c_str());
     return 2;
   }
-  std::printf("%s %d x%d: slopes %d/%d %d/%d\n", stage.c_str(), width, n,
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  std::printf("%s %d x%d: %.3f ms per call, slopes %d/%d %d/%d\n", stage.c_str(), width, n, ms / n,
               det.leftTemplate().slope_p, det.leftTemplate().slope_q, det.rightTemplate().slope_p,
               det.rightTemplate().slope_q);
   return 0;

@@ -43,6 +43,23 @@ void renderRoadFrame(int width, int height, int index, RoadFrame& out) {
   // car: back face at 25 m ahead in the left lane, 1.8 m wide, 1.5 m high
   const double car_z = 25.0, car_x0 = -lane - 0.9 - sway, car_x1 = car_x0 + 1.8;
 
+  // Depth holes as a sensor gives them: blobs (specular or dark patches, occlusion edges) of
+  // 3 to 9 px radius at 640 x 380, about 0.3% of the road.
+  struct Blob {
+    double u, v, r2;
+  };
+  Blob blobs[12];
+  const double s = width / 640.0;
+  for (int i = 0; i < 12; ++i) {
+    const double r = s * (3.0 + 6.0 * hash01(index, i, 11));
+    blobs[i] = {width * hash01(index, i, 12), height * (0.45 + 0.55 * hash01(index, i, 13)), r * r};
+  }
+  auto inHole = [&](int u, int v) {
+    for (const Blob& b : blobs)
+      if ((u - b.u) * (u - b.u) + (v - b.v) * (v - b.v) <= b.r2) return true;
+    return false;
+  };
+
   for (int v = 0; v < height; ++v) {
     cv::Vec3b* c = out.bgr.ptr<cv::Vec3b>(v);
     uint16_t* d = out.depth_mm.ptr<uint16_t>(v);
@@ -80,7 +97,7 @@ void renderRoadFrame(int width, int height, int index, RoadFrame& out) {
       }
       const uint8_t g = cv::saturate_cast<uint8_t>(grey);
       c[u] = cv::Vec3b(g, g, g);
-      if (depth > 0.0 && hash01(u, v, 1000 + index) < 0.005) depth = 0.0;  // holes
+      if (depth > 0.0 && inHole(u, v)) depth = 0.0;
       if (depth > 0.0) depth += 0.001 * (hash01(u, v, 2000 + index) - 0.5);
       d[u] = static_cast<uint16_t>(std::lround(depth * 1000.0));
     }

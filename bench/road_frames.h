@@ -27,7 +27,7 @@ struct RoadFrame {
  * carries a textured grey around the half-binary threshold (about 10% of its pixels survive
  * tau_c = 100, so the matcher cannot skip the road), a car stands in the next lane (a vertical
  * surface for the normals), the sky is bright, depth has 1 mm noise, is 0 beyond 60 m and
- * has 0.5% random holes.
+ * has a dozen hole blobs (3 to 9 px radius at 640 x 380).
  */
 void renderRoadFrame(int width, int height, int index, RoadFrame& out);
 
