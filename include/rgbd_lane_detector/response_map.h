@@ -32,7 +32,9 @@ inline float geometricValue(float depth, float n_dot_up, int row, int height, co
 }
 
 /// R at one pixel (Eq. 3): M below tau_G, M + G otherwise.
-inline float fusedValue(float m, float g, float tau_g) { return m < tau_g ? m : m + g; }
+inline float fusedValue(float m, float g, float tau_g) {
+  return m < tau_g ? m : m + g;
+}
 
 /**
  * @brief Geometric map G over some rows.
@@ -50,5 +52,14 @@ void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p
  */
 void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
                   cv::Mat& R);
+
+/**
+ * @brief The maximum of a CV_32FC1 map and its first position in row-major order: what
+ * cv::minMaxLoc(R, nullptr, &max_value, nullptr, &max_location) gives, without its cost.
+ * @param[in] R CV_32FC1 (a region of interest of a larger map is fine), no NaN.
+ * @param[out] max_value the maximum.
+ * @param[out] max_location its first position, relative to @p R.
+ */
+void maxLocation(const cv::Mat& R, double& max_value, cv::Point& max_location);
 
 }  // namespace rgbd_lane_detector

@@ -43,9 +43,70 @@ __attribute__((target("avx2"))) int fuseAvx2(const float* m, const float* g, flo
   }
   return x;
 }
+
+__attribute__((target("avx2"))) float rowMaxAvx2(const float* r, int n, float m, int& done) {
+  __m256 v = _mm256_set1_ps(m);
+  int x = 0;
+  for (; x + 8 <= n; x += 8) v = _mm256_max_ps(v, _mm256_loadu_ps(r + x));
+  const __m128 h = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+  const __m128 q = _mm_max_ps(h, _mm_movehl_ps(h, h));
+  done = x;
+  return _mm_cvtss_f32(_mm_max_ss(q, _mm_shuffle_ps(q, q, 1)));
+}
+
+__attribute__((target("avx2"))) int rowFindAvx2(const float* r, int n, float m, int& done) {
+  const __m256 v = _mm256_set1_ps(m);
+  int x = 0;
+  for (; x + 8 <= n; x += 8) {
+    const int hit = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(r + x), v, _CMP_EQ_OQ));
+    if (hit) return x + __builtin_ctz(static_cast<unsigned>(hit));
+  }
+  done = x;
+  return -1;
+}
 #endif
 
 }  // namespace
+
+void maxLocation(const cv::Mat& R, double& max_value, cv::Point& max_location) {
+  CV_Assert(R.type() == CV_32FC1);
+  max_location = cv::Point(-1, -1);
+  max_value = 0.0;
+  if (R.empty()) return;
+#ifdef RLD_RM_AVX2
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+#endif
+  // the maximum, then its first occurrence (cv::minMaxLoc keeps the first on ties)
+  float m = R.at<float>(0, 0);
+  for (int y = 0; y < R.rows; ++y) {
+    const float* r = R.ptr<float>(y);
+    int x = 0;
+#ifdef RLD_RM_AVX2
+    if (avx2) m = rowMaxAvx2(r, R.cols, m, x);
+#endif
+    for (; x < R.cols; ++x) m = std::max(m, r[x]);
+  }
+  max_value = m;
+  for (int y = 0; y < R.rows; ++y) {
+    const float* r = R.ptr<float>(y);
+    int x = 0;
+#ifdef RLD_RM_AVX2
+    if (avx2) {
+      const int at = rowFindAvx2(r, R.cols, m, x);
+      if (at >= 0) {
+        max_location = cv::Point(at, y);
+        return;
+      }
+    }
+#endif
+    for (; x < R.cols; ++x) {
+      if (r[x] == m) {
+        max_location = cv::Point(x, y);
+        return;
+      }
+    }
+  }
+}
 
 void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
                   cv::Mat& R) {

@@ -62,5 +62,24 @@ TEST(ResponseMap, MapsOverRowsWithUpAxisAndInPlaceFusion) {
   EXPECT_FLOAT_EQ(M.at<float>(0, 0), 0.7f);  // outside the rows: unchanged
 }
 
+// findSeed's maximum: cv::minMaxLoc's value and first position (row-major) on ties.
+TEST(ResponseMap, MaxLocationIsMinMaxLocs) {
+  cv::RNG rng(4);
+  cv::Mat big(50, 77, CV_32FC1);
+  for (int trial = 0; trial < 40; ++trial) {
+    rng.fill(big, cv::RNG::UNIFORM, 0.0, trial % 2 ? 1.0 : 3.0);
+    if (trial % 4 == 1) big.setTo(0.f);                     // all equal: first element
+    if (trial % 4 == 2) big.setTo(1.25f, big > 2.5f);       // many ties
+    if (trial % 4 == 3) big.at<float>(49, 76) = 9.f;        // maximum in the last element
+    const cv::Rect area(trial % 7, trial % 5, 77 - trial % 7 - trial % 3, 45);  // odd widths
+    double ref_v, v;
+    cv::Point ref_p, p;
+    cv::minMaxLoc(big(area), nullptr, &ref_v, nullptr, &ref_p);
+    maxLocation(big(area), v, p);
+    EXPECT_EQ(v, ref_v) << trial;
+    EXPECT_EQ(p, ref_p) << trial;
+  }
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
