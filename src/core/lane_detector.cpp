@@ -293,7 +293,7 @@ void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float&
   }
   double max_v = 0.0;
   cv::Point max_p(-1, -1);
-  cv::minMaxLoc(R(area), nullptr, &max_v, nullptr, &max_p);
+  maxLocation(R(area), max_v, max_p);  // cv::minMaxLoc's result, vectorised
   peak = max_p + area.tl();
   value = static_cast<float>(max_v);
 }
