@@ -170,11 +170,10 @@ RLD_AVX2_INLINE void moments8(const float* p, std::ptrdiff_t stride, __m256& box
   if (kSecond) *m2 = second;
 }
 
-// Prepared row (kv, t, c), eight pixels per step.
-__attribute__((target("avx2"))) bool prepareAvx2(const float* p, const float* k, int n, float* kv,
-                                                 float* t, float* c, int& done) {
+// Prepared row (kv, t, c), eight pixels per step; bit b of bad: block b has invalid pixels.
+__attribute__((target("avx2"))) void prepareAvx2(const float* p, const float* k, int n, float* kv,
+                                                 float* t, float* c, uint64_t* bad, int& done) {
   const __m256 zero = _mm256_setzero_ps(), inf = _mm256_set1_ps(kInf), one = _mm256_set1_ps(1.f);
-  __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
   int x = 0;
   for (; x + 8 <= n; x += 8) {
     const __m256 z = loadZ8(p + 3 * x), kk = _mm256_loadu_ps(k + x);
@@ -184,18 +183,18 @@ __attribute__((target("avx2"))) bool prepareAvx2(const float* p, const float* k,
     _mm256_storeu_ps(t + x,
                      _mm256_and_ps(valid, _mm256_div_ps(kk, _mm256_blendv_ps(one, z, valid))));
     _mm256_storeu_ps(c + x, _mm256_and_ps(valid, one));
-    all = _mm256_and_ps(all, valid);
+    if (_mm256_movemask_ps(valid) != 0xFF) bad[x / 512] |= uint64_t{1} << (x / 8 % 64);
   }
   done = x;
-  return _mm256_movemask_ps(all) != 0xFF;
 }
 
 // Vertical sums of eight columns: the centre row's planes kv, t, c start at kv, kv + W,
 // kv + 2 W, and the row at offset d is d * stride further. The kv and c moments are only needed
-// where pixels are missing (holes).
+// near missing pixels (bit b of holes for block b).
 template <int H>
 __attribute__((target("avx2"))) void verticalAvx2(const float* kv, int W, std::ptrdiff_t stride,
-                                                  bool holes, float* const* out, int& done) {
+                                                  const uint64_t* holes, float* const* out,
+                                                  int& done) {
   const float* t = kv + W;
   const float* c = kv + 2 * W;
   int x = 0;
@@ -204,7 +203,7 @@ __attribute__((target("avx2"))) void verticalAvx2(const float* kv, int W, std::p
     moments8<H>(t + x, stride, w0, w1);
     _mm256_storeu_ps(out[kW0] + x, w0);
     _mm256_storeu_ps(out[kW1] + x, w1);
-    if (!holes) {
+    if (!(holes[x / 512] >> (x / 8 % 64) & 1)) {
       moments8<H>(c + x, stride, n, n1);
       _mm256_storeu_ps(out[kC] + x, n);
       continue;
@@ -223,7 +222,8 @@ __attribute__((target("avx2"))) void verticalAvx2(const float* kv, int W, std::p
 }
 
 // Horizontal sums, solve and G of eight pixels per step, the scalar code's operations lane for
-// lane. Windows without missing pixels use the precomputed adj(Q) (table planes at table[j] + x),
+// lane. Bit b of holes: missing pixels within reach of block b's windows. Windows without missing
+// pixels use the precomputed adj(Q) (table planes at table[j] + x),
 // the others solvePartial(), whose ill-conditioned columns are appended to `slow` for the exact
 // double path (their G is written there). Normals (rarely wanted) are finished by the scalar
 // code from the same n'.
@@ -232,8 +232,8 @@ __attribute__((target("avx2"))) void horizontalAvx2(const float* const* vert,
                                                     const float* const* table, int n,
                                                     const float* ncols, const float* ax,
                                                     const RowConst& rc, const float* prow,
-                                                    float* nrow, float* grow, bool holes, int* slow,
-                                                    int& n_slow, int& done) {
+                                                    float* nrow, float* grow, const uint64_t* holes,
+                                                    int* slow, int& n_slow, int& done) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f), three = _mm256_set1_ps(3.f);
   const __m256 inf = _mm256_set1_ps(kInf), ninf = _mm256_set1_ps(-kInf);
   const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
@@ -251,7 +251,8 @@ __attribute__((target("avx2"))) void horizontalAvx2(const float* const* vert,
     moments8<H>(vert[kW1] + x, 1, Tv, unused);
     // without missing pixels in the rows every window is whole
     __m256 whole = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-    if (holes) {
+    const bool holed = holes[x / 512] >> (x / 8 % 64) & 1;
+    if (holed) {
       moments8<H>(vert[kC] + x, 1, N, unused);
       whole = _mm256_cmp_ps(N, mul(_mm256_loadu_ps(ncols + x), full_rows), _CMP_EQ_OQ);
     }
@@ -262,7 +263,7 @@ __attribute__((target("avx2"))) void horizontalAvx2(const float* const* vert,
     __m256 m1 = add(add(mul(a[1], T0), mul(a[3], Tu)), mul(a[4], Tv));
     __m256 m2 = add(add(mul(a[2], T0), mul(a[4], Tu)), mul(a[5], Tv));
     const bool some =
-        holes && _mm256_movemask_ps(_mm256_andnot_ps(whole, _mm256_cmp_ps(N, three, _CMP_GE_OQ)));
+        holed && _mm256_movemask_ps(_mm256_andnot_ps(whole, _mm256_cmp_ps(N, three, _CMP_GE_OQ)));
     if (some) {
       // windows with 3 or more valid pixels, some missing: solvePartial(), lane for lane
       __m256 K0, Ku, Kuu, Kv, Kuv, Kvv, Cu1, Cu2, Cb1, Cb2, unused;
@@ -296,7 +297,7 @@ __attribute__((target("avx2"))) void horizontalAvx2(const float* const* vert,
       m1 = _mm256_blendv_ps(p1, m1, whole);
       m2 = _mm256_blendv_ps(p2, m2, whole);
       ok = _mm256_or_ps(whole, _mm256_and_ps(part, well));
-    } else if (holes) {
+    } else if (holed) {
       ok = whole;  // the others have fewer than 3 valid pixels
     }
     const __m256 n0 = mul(fxs, m1), n1 = mul(fys, m2);
@@ -439,21 +440,22 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   column_row_.assign(W, -1);
 }
 
-bool FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c) const {
+void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c,
+                             uint64_t* bad) const {
   const int W = size_.width;
+  std::fill(bad, bad + (W + 511) / 512, uint64_t{0});
   if (y < 0 || y >= size_.height) {  // outside the image: clipped windows, not holes
     std::fill(kv, kv + W, 0.f);
     std::fill(t, t + W, 0.f);
     std::fill(c, c + W, 0.f);
-    return false;
+    return;
   }
   const float* p = points.ptr<float>(y);
   const float* k = k_.ptr<float>(y);
-  bool holes = false;
   int x = 0;
 #ifdef RLD_FALS_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) holes = prepareAvx2(p, k, W, kv, t, c, x);
+  if (avx2) prepareAvx2(p, k, W, kv, t, c, bad, x);
 #endif
   for (; x < W; ++x) {
     const float z = p[3 * x + 2];
@@ -461,9 +463,8 @@ bool FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, 
     kv[x] = valid ? k[x] : 0.f;
     t[x] = valid ? k[x] / z : 0.f;
     c[x] = valid ? 1.f : 0.f;
-    holes = holes || !valid;
+    if (!valid) bad[x / 512] |= uint64_t{1} << (x / 8 % 64);
   }
-  return holes;
 }
 
 bool FalsNormals::solveWindow(int x, int y, const float* const* kv, const float* const* t,
@@ -574,11 +575,15 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
   const std::ptrdiff_t row_stride = 3 * static_cast<std::ptrdiff_t>(W);
   CV_Assert(prep_.isContinuous());
   auto slot = [&](int i) { return prep_.ptr<float>(3 * i); };
-  holes_.resize(span);
+  // per 8-pixel block: invalid pixels in a prepared row (bad_), near the windows of a block
+  // (blocks within 1 for the horizontal pass, within 2 for the vertical sums it reads)
+  const int nw = (W + 511) / 512;  // 64-bit words of block bits
+  bad_.resize(static_cast<size_t>(span) * nw);
+  near_.resize(3 * static_cast<size_t>(nw));
   auto prepare = [&](int r) {
     const int i = ((r % span) + span) % span;
     float* a = slot(i);
-    holes_[i] = prepareRow(points, r, a, a + W, a + 2 * W);
+    prepareRow(points, r, a, a + W, a + 2 * W, &bad_[static_cast<size_t>(i) * nw]);
     std::memcpy(slot(i + span), a, sizeof(float) * row_stride);
   };
   for (int r = r0 - h; r < r0 + h; ++r) prepare(r);
@@ -621,14 +626,27 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
     }
 
     // vertical sums of this row (the k and count moments only where pixels are missing)
-    bool holes = false;
-    for (int i = 0; i < span; ++i) holes = holes || holes_[i];
+    uint64_t* band = near_.data();
+    uint64_t* near_h = band + nw;      // bad blocks within 1: the horizontal pass
+    uint64_t* near_v = band + 2 * nw;  // within 2: the vertical sums it reads
+    for (int j = 0; j < nw; ++j) {
+      band[j] = 0;
+      for (int i = 0; i < span; ++i) band[j] |= bad_[static_cast<size_t>(i) * nw + j];
+    }
+    auto shifted = [&](int j, int d) {  // bit b: block b + d
+      if (d > 0) return (band[j] >> d) | (j + 1 < nw ? band[j + 1] << (64 - d) : 0);
+      return (band[j] << -d) | (j > 0 ? band[j - 1] >> (64 + d) : 0);
+    };
+    for (int j = 0; j < nw; ++j) {
+      near_h[j] = band[j] | shifted(j, 1) | shifted(j, -1);
+      near_v[j] = near_h[j] | shifted(j, 2) | shifted(j, -2);
+    }
     int x = 0;
 #ifdef RLD_FALS_AVX2
     if (avx2) {
-      if (h == 1) verticalAvx2<1>(kv_rows[1], W, row_stride, holes, vert, x);
-      if (h == 2) verticalAvx2<2>(kv_rows[2], W, row_stride, holes, vert, x);
-      if (h == 3) verticalAvx2<3>(kv_rows[3], W, row_stride, holes, vert, x);
+      if (h == 1) verticalAvx2<1>(kv_rows[1], W, row_stride, near_v, vert, x);
+      if (h == 2) verticalAvx2<2>(kv_rows[2], W, row_stride, near_v, vert, x);
+      if (h == 3) verticalAvx2<3>(kv_rows[3], W, row_stride, near_v, vert, x);
     }
 #endif
     for (; x < W; ++x) {
@@ -649,9 +667,10 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       const float *nc = ncols_.data(), *ax = ax_.data();
       int* sl = slow_.data();
       float* g = grow;
-      if (h == 1) horizontalAvx2<1>(v, table, W, nc, ax, rc, prow, nrow, g, holes, sl, n_slow, x);
-      if (h == 2) horizontalAvx2<2>(v, table, W, nc, ax, rc, prow, nrow, g, holes, sl, n_slow, x);
-      if (h == 3) horizontalAvx2<3>(v, table, W, nc, ax, rc, prow, nrow, g, holes, sl, n_slow, x);
+      const uint64_t* nh = near_h;
+      if (h == 1) horizontalAvx2<1>(v, table, W, nc, ax, rc, prow, nrow, g, nh, sl, n_slow, x);
+      if (h == 2) horizontalAvx2<2>(v, table, W, nc, ax, rc, prow, nrow, g, nh, sl, n_slow, x);
+      if (h == 3) horizontalAvx2<3>(v, table, W, nc, ax, rc, prow, nrow, g, nh, sl, n_slow, x);
     }
 #endif
     for (; x < W; ++x) {
