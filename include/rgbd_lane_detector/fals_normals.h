@@ -72,7 +72,8 @@ class FalsNormals {
  private:
   struct Output;
   void run(const cv::Mat& points, const cv::Range& rows, const Output& out);
-  void prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, uint64_t* bad) const;
+  void prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, float* z,
+                  uint64_t* bad) const;
   bool solveWindow(int x, int y, const float* const* kv, const float* const* t,
                    const float* const* c, float n[3]);
 
@@ -88,7 +89,7 @@ class FalsNormals {
   cv::Mat rays_;                    ///< CV_32FC3 unit rays
   cv::Mat k_;                       ///< CV_32FC1 1 / |w|^2 per pixel
   cv::Mat table_;                   ///< CV_32FC1 6 planes of H rows: adj(Q) of whole windows
-  cv::Mat prep_;                    ///< CV_32FC1 ring of prepared rows: k valid, k / z, valid
+  cv::Mat prep_;                    ///< CV_32FC1 ring of prepared rows: k valid, k / z, valid, z
   std::vector<uint64_t> bad_;       ///< bit per ring slot and 8-pixel block: invalid pixels
   std::vector<uint64_t> near_;      ///< bit per block: missing pixels within the windows' reach
   cv::Mat vert_;                    ///< CV_32FC1 vertical sums of one row (8 padded planes)

@@ -57,6 +57,20 @@ struct RowConst {
   float up[3] = {0.f, -1.f, 0.f};
 };
 
+// moments() over separate rows: rows[h + d][x] is the value at offset d.
+inline void momentsRows(const float* const* rows, std::ptrdiff_t x, int h, float& box, float& m1,
+                        float& m2) {
+  box = rows[h][x];
+  m1 = 0.f;
+  m2 = 0.f;
+  for (int d = 1; d <= h; ++d) {
+    const float a = rows[h + d][x] + rows[h - d][x], e = rows[h + d][x] - rows[h - d][x];
+    box = box + a;
+    m1 = m1 + static_cast<float>(d) * e;
+    m2 = m2 + static_cast<float>(d * d) * a;
+  }
+}
+
 /// Window sums of a pixel with missing pixels (float path).
 struct Partial {
   float K0, Ku, Kv, Kuu, Kuv, Kvv, N, Cu1, Cu2, Cb1, Cb2;
@@ -170,13 +184,33 @@ RLD_AVX2_INLINE void moments8(const float* p, std::ptrdiff_t stride, __m256& box
   if (kSecond) *m2 = second;
 }
 
-// Prepared row (kv, t, c), eight pixels per step; bit b of bad: block b has invalid pixels.
+// moments8() over separate rows: the value at offset d is at rows[H + d] + off.
+template <int H, bool kSecond = false>
+RLD_AVX2_INLINE void moments8Rows(const float* const* rows, std::ptrdiff_t off, __m256& box,
+                                  __m256& m1, __m256* m2 = nullptr) {
+  box = _mm256_loadu_ps(rows[H] + off);
+  m1 = _mm256_setzero_ps();
+  __m256 second = _mm256_setzero_ps();
+  for (int d = 1; d <= H; ++d) {
+    const __m256 a0 = _mm256_loadu_ps(rows[H + d] + off), b0 = _mm256_loadu_ps(rows[H - d] + off);
+    const __m256 a = add(a0, b0);
+    box = add(box, a);
+    m1 = add(m1, mul(_mm256_set1_ps(static_cast<float>(d)), sub(a0, b0)));
+    if (kSecond) second = add(second, mul(_mm256_set1_ps(static_cast<float>(d * d)), a));
+  }
+  if (kSecond) *m2 = second;
+}
+
+// Prepared row (kv, t, c and z itself), eight pixels per step; bit b of bad: block b has
+// invalid pixels.
 __attribute__((target("avx2"))) void prepareAvx2(const float* p, const float* k, int n, float* kv,
-                                                 float* t, float* c, uint64_t* bad, int& done) {
+                                                 float* t, float* c, float* zs, uint64_t* bad,
+                                                 int& done) {
   const __m256 zero = _mm256_setzero_ps(), inf = _mm256_set1_ps(kInf), one = _mm256_set1_ps(1.f);
   int x = 0;
   for (; x + 8 <= n; x += 8) {
     const __m256 z = loadZ8(p + 3 * x), kk = _mm256_loadu_ps(k + x);
+    _mm256_storeu_ps(zs + x, z);
     const __m256 valid =
         _mm256_and_ps(_mm256_cmp_ps(z, zero, _CMP_GT_OQ), _mm256_cmp_ps(z, inf, _CMP_LT_OQ));
     _mm256_storeu_ps(kv + x, _mm256_and_ps(valid, kk));
@@ -188,29 +222,27 @@ __attribute__((target("avx2"))) void prepareAvx2(const float* p, const float* k,
   done = x;
 }
 
-// Vertical sums of eight columns: the centre row's planes kv, t, c start at kv, kv + W,
-// kv + 2 W, and the row at offset d is d * stride further. The kv and c moments are only needed
-// near missing pixels (bit b of holes for block b).
+// Vertical sums of eight columns: rows[H + d] holds the prepared row at offset d (planes kv, t,
+// c at 0, W, 2 W). The kv and c moments are only needed near missing pixels (bit b of holes for
+// block b).
 template <int H>
-__attribute__((target("avx2"))) void verticalAvx2(const float* kv, int W, std::ptrdiff_t stride,
+__attribute__((target("avx2"))) void verticalAvx2(const float* const* rows, int W,
                                                   const uint64_t* holes, float* const* out,
                                                   int& done) {
-  const float* t = kv + W;
-  const float* c = kv + 2 * W;
   int x = 0;
   for (; x + 8 <= W; x += 8) {
     __m256 w0, w1, n, n1, n2;
-    moments8<H>(t + x, stride, w0, w1);
+    moments8Rows<H>(rows, W + x, w0, w1);
     _mm256_storeu_ps(out[kW0] + x, w0);
     _mm256_storeu_ps(out[kW1] + x, w1);
     if (!(holes[x / 512] >> (x / 8 % 64) & 1)) {
-      moments8<H>(c + x, stride, n, n1);
+      moments8Rows<H>(rows, 2 * W + x, n, n1);
       _mm256_storeu_ps(out[kC] + x, n);
       continue;
     }
     __m256 v0, v1, v2;
-    moments8<H, true>(c + x, stride, n, n1, &n2);
-    moments8<H, true>(kv + x, stride, v0, v1, &v2);
+    moments8Rows<H, true>(rows, 2 * W + x, n, n1, &n2);
+    moments8Rows<H, true>(rows, x, v0, v1, &v2);
     _mm256_storeu_ps(out[kC] + x, n);
     _mm256_storeu_ps(out[kCv1] + x, n1);
     _mm256_storeu_ps(out[kCv2] + x, n2);
@@ -228,12 +260,10 @@ __attribute__((target("avx2"))) void verticalAvx2(const float* kv, int W, std::p
 // double path (their G is written there). Normals (rarely wanted) are finished by the scalar
 // code from the same n'.
 template <int H>
-__attribute__((target("avx2"))) void horizontalAvx2(const float* const* vert,
-                                                    const float* const* table, int n,
-                                                    const float* ncols, const float* ax,
-                                                    const RowConst& rc, const float* prow,
-                                                    float* nrow, float* grow, const uint64_t* holes,
-                                                    int* slow, int& n_slow, int& done) {
+__attribute__((target("avx2"))) void horizontalAvx2(
+    const float* const* vert, const float* const* table, int n, const float* ncols, const float* ax,
+    const RowConst& rc, const float* prow, const float* zrow, float* nrow, float* grow,
+    const uint64_t* holes, int* slow, int& n_slow, int& done) {
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f), three = _mm256_set1_ps(3.f);
   const __m256 inf = _mm256_set1_ps(kInf), ninf = _mm256_set1_ps(-kInf);
   const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
@@ -324,7 +354,7 @@ __attribute__((target("avx2"))) void horizontalAvx2(const float* const* vert,
     const __m256 nup =
         mul(_mm256_and_ps(abs_mask, add(add(mul(n0, u0), mul(n1, u1)), mul(n2, u2))), inv_len);
     const __m256 normal_term = _mm256_and_ps(ok, nup);
-    const __m256 z = loadZ8(prow + 3 * x);
+    const __m256 z = _mm256_loadu_ps(zrow + x);
     const __m256 near =
         _mm256_and_ps(_mm256_cmp_ps(z, td, _CMP_LE_OQ), _mm256_cmp_ps(z, ninf, _CMP_GT_OQ));
     const __m256 depth_term = rc.near_high ? mul(sub(td, z), inv_td) : mul(z, inv_td);
@@ -432,7 +462,7 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   } else {
     table_.release();
   }
-  prep_.create(3 * 2 * (2 * h + 1), W, CV_32FC1);
+  prep_.create(4 * (2 * h + 1), W, CV_32FC1);
   vert_.create(kPlanes, W + 2 * h, CV_32FC1);
   vert_.setTo(0);  // the h columns each side stay 0: outside the image
   slow_.resize(W);
@@ -440,7 +470,7 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   column_row_.assign(W, -1);
 }
 
-void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c,
+void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, float* z,
                              uint64_t* bad) const {
   const int W = size_.width;
   std::fill(bad, bad + (W + 511) / 512, uint64_t{0});
@@ -448,6 +478,7 @@ void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, 
     std::fill(kv, kv + W, 0.f);
     std::fill(t, t + W, 0.f);
     std::fill(c, c + W, 0.f);
+    std::fill(z, z + W, kNaN);
     return;
   }
   const float* p = points.ptr<float>(y);
@@ -455,13 +486,13 @@ void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, 
   int x = 0;
 #ifdef RLD_FALS_AVX2
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) prepareAvx2(p, k, W, kv, t, c, bad, x);
+  if (avx2) prepareAvx2(p, k, W, kv, t, c, z, bad, x);
 #endif
   for (; x < W; ++x) {
-    const float z = p[3 * x + 2];
-    const bool valid = z > 0.f && z < kInf;
+    const float d = z[x] = p[3 * x + 2];
+    const bool valid = d > 0.f && d < kInf;
     kv[x] = valid ? k[x] : 0.f;
-    t[x] = valid ? k[x] / z : 0.f;
+    t[x] = valid ? k[x] / d : 0.f;
     c[x] = valid ? 1.f : 0.f;
     if (!valid) bad[x / 512] |= uint64_t{1} << (x / 8 % 64);
   }
@@ -570,38 +601,33 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
   static const bool avx2 = __builtin_cpu_supports("avx2");
 #endif
 
-  // Ring of prepared rows (planes kv, t, c) kept twice, in slots i and i + span with
-  // i = r mod span, so that rows y - h .. y + h always sit at a constant stride.
-  const std::ptrdiff_t row_stride = 3 * static_cast<std::ptrdiff_t>(W);
-  CV_Assert(prep_.isContinuous());
-  auto slot = [&](int i) { return prep_.ptr<float>(3 * i); };
+  // Ring of prepared rows (planes kv, t, c, z), row r in slot r mod span.
+  auto slot = [&](int r) { return prep_.ptr<float>(4 * (((r % span) + span) % span)); };
   // per 8-pixel block: invalid pixels in a prepared row (bad_), near the windows of a block
   // (blocks within 1 for the horizontal pass, within 2 for the vertical sums it reads)
   const int nw = (W + 511) / 512;  // 64-bit words of block bits
   bad_.resize(static_cast<size_t>(span) * nw);
   near_.resize(3 * static_cast<size_t>(nw));
   auto prepare = [&](int r) {
+    float* a = slot(r);
     const int i = ((r % span) + span) % span;
-    float* a = slot(i);
-    prepareRow(points, r, a, a + W, a + 2 * W, &bad_[static_cast<size_t>(i) * nw]);
-    std::memcpy(slot(i + span), a, sizeof(float) * row_stride);
+    prepareRow(points, r, a, a + W, a + 2 * W, a + 3 * W, &bad_[static_cast<size_t>(i) * nw]);
   };
   for (int r = r0 - h; r < r0 + h; ++r) prepare(r);
   std::fill(column_row_.begin(), column_row_.end(), -1);
 
   float* vert[kPlanes];
   for (int k = 0; k < kPlanes; ++k) vert[k] = vert_.ptr<float>(k) + h;
-  const float* kv_rows[7];
+  const float* kv_rows[7];  // rows y - h .. y + h: plane kv, then t at + W, c at + 2 W
   const float* t_rows[7];
   const float* c_rows[7];
 
   for (int y = r0; y < r1; ++y) {
     prepare(y + h);
-    const float* centre = slot(((y - h) % span + span) % span + h);
     for (int d = -h; d <= h; ++d) {
-      kv_rows[d + h] = centre + d * row_stride;
-      t_rows[d + h] = centre + d * row_stride + W;
-      c_rows[d + h] = centre + d * row_stride + 2 * W;
+      kv_rows[d + h] = slot(y + d);
+      t_rows[d + h] = slot(y + d) + W;
+      c_rows[d + h] = slot(y + d) + 2 * W;
     }
     RowConst rc = out.base;
     rc.ay = ay_[y];
@@ -644,16 +670,16 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
     int x = 0;
 #ifdef RLD_FALS_AVX2
     if (avx2) {
-      if (h == 1) verticalAvx2<1>(kv_rows[1], W, row_stride, near_v, vert, x);
-      if (h == 2) verticalAvx2<2>(kv_rows[2], W, row_stride, near_v, vert, x);
-      if (h == 3) verticalAvx2<3>(kv_rows[3], W, row_stride, near_v, vert, x);
+      if (h == 1) verticalAvx2<1>(kv_rows, W, near_v, vert, x);
+      if (h == 2) verticalAvx2<2>(kv_rows, W, near_v, vert, x);
+      if (h == 3) verticalAvx2<3>(kv_rows, W, near_v, vert, x);
     }
 #endif
     for (; x < W; ++x) {
       float unused;
-      moments(t_rows[h] + x, row_stride, h, vert[kW0][x], vert[kW1][x], unused);
-      moments(c_rows[h] + x, row_stride, h, vert[kC][x], vert[kCv1][x], vert[kCv2][x]);
-      moments(kv_rows[h] + x, row_stride, h, vert[kV0][x], vert[kV1][x], vert[kV2][x]);
+      momentsRows(t_rows, x, h, vert[kW0][x], vert[kW1][x], unused);
+      momentsRows(c_rows, x, h, vert[kC][x], vert[kCv1][x], vert[kCv2][x]);
+      momentsRows(kv_rows, x, h, vert[kV0][x], vert[kV1][x], vert[kV2][x]);
     }
 
     // horizontal sums, solve and outputs; ill-conditioned windows go to the exact path
@@ -668,9 +694,10 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       int* sl = slow_.data();
       float* g = grow;
       const uint64_t* nh = near_h;
-      if (h == 1) horizontalAvx2<1>(v, table, W, nc, ax, rc, prow, nrow, g, nh, sl, n_slow, x);
-      if (h == 2) horizontalAvx2<2>(v, table, W, nc, ax, rc, prow, nrow, g, nh, sl, n_slow, x);
-      if (h == 3) horizontalAvx2<3>(v, table, W, nc, ax, rc, prow, nrow, g, nh, sl, n_slow, x);
+      const float* z = kv_rows[h] + 3 * W;
+      if (h == 1) horizontalAvx2<1>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x);
+      if (h == 2) horizontalAvx2<2>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x);
+      if (h == 3) horizontalAvx2<3>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x);
     }
 #endif
     for (; x < W; ++x) {
