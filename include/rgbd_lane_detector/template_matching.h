@@ -73,6 +73,16 @@ class NccMatcher {
 };
 
 /**
+ * @brief Test and benchmark hook: while enabled, NccMatcher::match() computes with
+ * cv::matchTemplate and FalsNormals solves every window directly in double (the method as
+ * written), so detect() can be run on both implementations and compared. Process-wide, slow,
+ * allocates; never enabled by the package itself.
+ */
+void setReferenceStages(bool enabled);
+/// Whether setReferenceStages(true) is in effect.
+bool referenceStages();
+
+/**
  * @brief Reference path: cv::matchTemplate(TM_CCOEFF_NORMED) in the same output layout.
  * Allocates; for tests and benchmarks.
  */

@@ -1,5 +1,7 @@
 #include "rgbd_lane_detector/fals_normals.h"
 
+#include "rgbd_lane_detector/template_matching.h"  // referenceStages()
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -646,7 +648,8 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
              grow ? grow + x : nullptr);
     };
 
-    if (!uniform_) {  // resampled at an uneven step: no separable sums
+    // resampled at an uneven step (no separable sums), or the reference: every window exactly
+    if (!uniform_ || referenceStages()) {
       for (int x = 0; x < W; ++x) exact(x);
       continue;
     }

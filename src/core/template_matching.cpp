@@ -1,6 +1,7 @@
 #include "rgbd_lane_detector/template_matching.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -414,9 +415,26 @@ void NccMatcher::produceRow(const cv::Mat& image, const cv::Rect& region, int y)
   }
 }
 
+namespace {
+std::atomic<bool> g_reference_stages{false};
+}  // namespace
+
+void setReferenceStages(bool enabled) {
+  g_reference_stages = enabled;
+}
+bool referenceStages() {
+  return g_reference_stages;
+}
+
 bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const LineTemplate& left,
                        const LineTemplate& right, cv::Mat& response_left, cv::Mat& response_right) {
   CV_Assert(image.type() == CV_8UC1 && left.size == right.size);
+  if (referenceStages()) {
+    matchTemplateReference(image, region_in, left, response_left);
+    matchTemplateReference(image, region_in, right, response_right);
+    const cv::Rect region = region_in & cv::Rect(0, 0, image.cols, image.rows);
+    return region.width >= left.size && region.height >= left.size;
+  }
   response_left.create(image.size(), CV_32FC1);
   response_right.create(image.size(), CV_32FC1);
   const cv::Rect region = region_in & cv::Rect(0, 0, image.cols, image.rows);
