@@ -3,6 +3,7 @@
 // scripts/bench.sh runs it and writes docs/PERFORMANCE.md from its JSON output.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <string>
@@ -250,6 +251,81 @@ BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 2)->Name("BM_OpenCV_Normals")->Apply(sizes);
 BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 3)->Name("BM_OpenCV_Matching")->Apply(sizes);
 BENCHMARK_TEMPLATE(BM_OpenCV_Stage, 4)->Name("BM_OpenCV_Response")->Apply(sizes);
 
+// ---------------------------------------------------------------------------------------------
+// Equality with the reference implementation, reported in the JSON context
+
+double maxAbsDiff(const cv::Mat& a, const cv::Mat& b, const cv::Rect& roi) {
+  return cv::norm(a(roi), b(roi), cv::NORM_INF);
+}
+
+// Detections are set-based (thresholded pixels, argmax): identical means equal seeds, traces,
+// angles and planes; scores are R samples and may differ by R's float rounding.
+bool sameDetections(const Result& a, const Result& b, double score_tol) {
+  auto same_side = [&](const MarkerTrace& p, const MarkerTrace& q) {
+    if (p.found != q.found || p.seed != q.seed || p.angle != q.angle ||
+        p.angle_valid != q.angle_valid || p.pixels != q.pixels ||
+        p.num_valid_points != q.num_valid_points || p.scores.size() != q.scores.size() ||
+        std::fabs(p.peak_score - q.peak_score) > score_tol)
+      return false;
+    for (size_t i = 0; i < p.scores.size(); ++i)
+      if (std::fabs(p.scores[i] - q.scores[i]) > score_tol) return false;
+    for (size_t i = 0; i < p.points.size(); ++i)
+      if (!(p.points[i].array() == q.points[i].array() ||
+            (p.points[i].array().isNaN() && q.points[i].array().isNaN()))
+               .all())
+        return false;
+    return true;
+  };
+  return a.status == b.status && same_side(a.left, b.left) && same_side(a.right, b.right) &&
+         a.plane.valid == b.plane.valid && a.plane.normal == b.plane.normal &&
+         a.plane.distance == b.plane.distance && a.template_angle_left == b.template_angle_left &&
+         a.template_angle_right == b.template_angle_right;
+}
+
+void reportEquality(int width) {
+  Data& d = data(width);
+  const std::string key = std::to_string(d.width) + "x" + std::to_string(d.height);
+  // 1. matcher against cv::matchTemplate, both templates, every frame
+  double max_m = 0.0;
+  // 2. detect() against detect() on the reference stages, frame by frame from the same start
+  LaneDetector fast(d.params), ref(d.params);
+  Result rf, rr;
+  double max_r = 0.0, max_g = 0.0;
+  int identical = 0, g_beyond = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    const Frame f = d.frames[i].frame();
+    fast.detect(f, rf);
+    setReferenceStages(true);
+    ref.detect(f, rr);
+    setReferenceStages(false);
+    cv::Mat ml, mr, rl, rrr;
+    NccMatcher m;
+    m.match(rf.half_binary, rf.roi, fast.leftTemplate(), fast.rightTemplate(), ml, mr);
+    matchTemplateReference(rf.half_binary, rf.roi, fast.leftTemplate(), rl);
+    matchTemplateReference(rf.half_binary, rf.roi, fast.rightTemplate(), rrr);
+    max_m = std::max({max_m, maxAbsDiff(ml, rl, rf.roi), maxAbsDiff(mr, rrr, rf.roi)});
+    max_g = std::max(max_g, maxAbsDiff(rf.geometric, rr.geometric, rf.roi));
+    cv::Mat g_diff;
+    cv::absdiff(rf.geometric(rf.roi), rr.geometric(rf.roi), g_diff);
+    g_beyond += cv::countNonZero(g_diff > 1e-4);
+    max_r = std::max({max_r, maxAbsDiff(rf.response_left, rr.response_left, rf.roi),
+                      maxAbsDiff(rf.response_right, rr.response_right, rf.roi)});
+    identical += sameDetections(rf, rr, 1e-4);
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.3g", max_m);
+  benchmark::AddCustomContext("equal " + key + " max |M - matchTemplate|", buf);
+  std::snprintf(buf, sizeof(buf), "%.3g", max_g);
+  benchmark::AddCustomContext("equal " + key + " max |G - G double FALS|", buf);
+  std::snprintf(buf, sizeof(buf), "%.3g", max_r);
+  benchmark::AddCustomContext("equal " + key + " max |R - R reference|", buf);
+  benchmark::AddCustomContext(
+      "equal " + key + " G pixels beyond 1e-4",
+      std::to_string(g_beyond) + " of " + std::to_string(kFrames * d.roi.area()));
+  benchmark::AddCustomContext("equal " + key + " identical detections",
+                              std::to_string(identical) + "/" + std::to_string(kFrames));
+}
+
 }  // namespace
 }  // namespace bench
 }  // namespace rgbd_lane_detector
@@ -258,6 +334,7 @@ int main(int argc, char** argv) {
   cv::setNumThreads(1);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  for (int width : {640, 1280}) rgbd_lane_detector::bench::reportEquality(width);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;
