@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 
 namespace rgbd_lane_detector {
 namespace {
@@ -35,7 +36,7 @@ void makeLineTemplate(int size, int width, double angle, LineTemplate& out) {
   out.width = width;
   out.angle = angle;
   out.image.create(size, size, CV_8UC1);
-  out.image.setTo(0);
+  for (int r = 0; r < size; ++r) std::memset(out.image.ptr<uint8_t>(r), 0, size);
   out.run_begin.assign(size, 0);
   out.run_end.assign(size, 0);
   out.count = 0;
@@ -62,7 +63,7 @@ void makeLineTemplate(int size, int width, double angle, LineTemplate& out) {
       out.run_begin[r] = rb;
       out.run_end[r] = re;
       out.count += re - rb;
-      if (re > rb) out.image.row(r).colRange(rb, re).setTo(255);
+      if (re > rb) std::memset(out.image.ptr<uint8_t>(r) + rb, 255, re - rb);
     }
   }
 }

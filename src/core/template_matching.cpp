@@ -24,6 +24,13 @@
 namespace rgbd_lane_detector {
 namespace {
 
+// Zero a rectangle of a map row by row (cv::Mat::setTo allocates a scratch buffer per call).
+void zero(cv::Mat& m, const cv::Rect& r) {
+  if (r.width <= 0 || r.height <= 0) return;
+  for (int y = r.y; y < r.br().y; ++y)
+    std::memset(m.ptr<uint8_t>(y) + r.x * m.elemSize(), 0, r.width * m.elemSize());
+}
+
 // acc[x] (+)= sum of (plus_i[x] - minus_i[x]) over 1, 2 or 4 pairs, all mod 2^32.
 RLD_CLONES void pairs1(uint32_t* acc, bool add, const uint32_t* a, const uint32_t* b, int n) {
   if (add)
@@ -329,6 +336,9 @@ void NccMatcher::compile(const LineTemplate& t, Compiled& c) {
   c.count = t.count;
   c.plus.clear();
   c.minus.clear();
+  // at most 2 vertical ranges and 2 q residue chains per side (no reallocation when q changes)
+  c.plus.reserve(4 + 4 * kMaxSlopeDenominator);
+  c.minus.reserve(4 + 4 * kMaxSlopeDenominator);
   auto pair = [&c](Term plus, Term minus) {
     c.plus.push_back(plus);
     c.minus.push_back(minus);
@@ -440,8 +450,8 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
   const cv::Rect region = region_in & cv::Rect(0, 0, image.cols, image.rows);
   const int s = left.size;
   if (region.width < s || region.height < s) {
-    response_left.setTo(0);
-    response_right.setTo(0);
+    zero(response_left, cv::Rect(0, 0, image.cols, image.rows));
+    zero(response_right, cv::Rect(0, 0, image.cols, image.rows));
     return false;
   }
   const int w = region.width, h = region.height;
@@ -451,10 +461,10 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
   // Scores are written at rows [y0, y0 + oh) and columns [x0, x0 + ow); zero the rest.
   const int y0 = region.y + off, x0 = region.x + off;
   for (cv::Mat* R : {&response_left, &response_right}) {
-    (*R)(cv::Rect(0, 0, image.cols, y0)).setTo(0);
-    (*R)(cv::Rect(0, y0 + oh, image.cols, image.rows - y0 - oh)).setTo(0);
-    (*R)(cv::Rect(0, y0, x0, oh)).setTo(0);
-    (*R)(cv::Rect(x0 + ow, y0, image.cols - x0 - ow, oh)).setTo(0);
+    zero(*R, cv::Rect(0, 0, image.cols, y0));
+    zero(*R, cv::Rect(0, y0 + oh, image.cols, image.rows - y0 - oh));
+    zero(*R, cv::Rect(0, y0, x0, oh));
+    zero(*R, cv::Rect(x0 + ow, y0, image.cols - x0 - ow, oh));
   }
 
   compile(left, compiled_[0]);
@@ -466,18 +476,27 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
   margin_ = std::max(std::abs(compiled_[0].p), std::abs(compiled_[1].p));
   ring_ = s + std::max(compiled_[0].q, compiled_[1].q) + 1;
   const int cols = w + 1 + 2 * margin_;
-  integral_.create(ring_, w + 1, CV_32SC1);
-  integral_sq_.create(ring_, w + 1, CV_32SC1);
-  stair_[0].create(ring_, cols, CV_32SC1);
-  stair_[1].create(ring_, cols, CV_32SC1);
+  // Buffers only grow: a template slope that changes between frames (ring rows, margins) must
+  // not reallocate in steady state.
+  auto ensure = [](cv::Mat& m, int rows, int c) {
+    if (m.rows < rows || m.cols < c)
+      m.create(std::max(rows, m.rows), std::max(c, m.cols), CV_32SC1);
+  };
+  ensure(integral_, ring_, w + 1);
+  ensure(integral_sq_, ring_, w + 1);
+  ensure(stair_[0], ring_, cols);
+  ensure(stair_[1], ring_, cols);
   for (auto& a : acc_) a.resize(ow);
+  plus_ptr_.reserve(4 + 4 * kMaxSlopeDenominator);
+  minus_ptr_.reserve(4 + 4 * kMaxSlopeDenominator);
   plus_ptr_.resize(std::max(compiled_[0].plus.size(), compiled_[1].plus.size()));
   minus_ptr_.resize(plus_ptr_.size());
   // integral row 0 and the running sums before the region are zero
-  integral_.row(0).setTo(0);
-  integral_sq_.row(0).setTo(0);
+  zero(integral_, cv::Rect(0, 0, w + 1, 1));
+  zero(integral_sq_, cv::Rect(0, 0, w + 1, 1));
   for (int k = 0; k < 2; ++k)
-    for (int y = -compiled_[k].q; y < 0; ++y) stair_[compiled_[k].stair].row(y + ring_).setTo(0);
+    for (int y = -compiled_[k].q; y < 0; ++y)
+      zero(stair_[compiled_[k].stair], cv::Rect(0, y + ring_, cols, 1));
 
   const int area = s * s;
   const double inv_area = 1.0 / area;
