@@ -18,6 +18,8 @@ namespace rgbd_lane_detector {
  * Output layout (both the fast and the reference path): a CV_32FC1 map of the image size whose
  * value at (u, v) is the score of the window with top-left corner (u - s/2, v - s/2), s the
  * template size, when that window lies inside @p region; 0 elsewhere. Negative scores are 0.
+ * The fast path zeroes the rows outside @p region only when a map is (re)allocated or the region
+ * changes: a caller that writes there between calls must clear them itself.
  *
  * The fast path never loops over template pixels. A line template row is one run
  * [b_r, e_r), so its correlation is a sum over rows of row-prefix differences
@@ -62,6 +64,8 @@ class NccMatcher {
   void produceRow(const cv::Mat& image, const cv::Rect& region, int y);
 
   Compiled compiled_[2];
+  const uint8_t* cleared_[2] = {nullptr, nullptr};  ///< maps whose rows outside the region are 0
+  cv::Rect cleared_region_[2];
   int ring_ = 0;                  ///< rows held by each table
   int margin_ = 0;                ///< extra columns each side of the running-sum tables
   int width_ = 0;                 ///< region width
