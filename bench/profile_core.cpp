@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+
+#include <sys/resource.h>
 #include <string>
 #include <vector>
 
@@ -89,6 +91,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   const double ms = cpu_ms() - start;
+  rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf("peak RSS %ld kB\n", usage.ru_maxrss);
   std::printf("%s %d x%d: %.3f ms CPU per call, slopes %d/%d %d/%d\n", stage.c_str(), width, n,
               ms / n, det.leftTemplate().slope_p, det.leftTemplate().slope_q,
               det.rightTemplate().slope_p, det.rightTemplate().slope_q);

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Benchmark the detector core against the straightforward OpenCV pipeline (bench/bench_core.cpp)
+# and write docs/PERFORMANCE.md and docs/performance.png from the results.
+# Called by `make bench` with the workspace sourced. Environment:
+#   BENCH_BIN          bench_core to run (default: found on CMAKE_PREFIX_PATH)
+#   BENCH_REPETITIONS  repetitions whose medians are reported (default 5)
+#   BENCH_FILTER       Google Benchmark filter (default: everything)
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+export PATH=/usr/bin:/bin:$PATH
+
+find_bin() {
+  local name=$1 p
+  IFS=: read -ra prefixes <<< "${CMAKE_PREFIX_PATH:-}"
+  for p in "${prefixes[@]}"; do
+    if [ -x "$p/lib/rgbd_lane_detector/$name" ]; then
+      echo "$p/lib/rgbd_lane_detector/$name"
+      return
+    fi
+  done
+}
+BIN=${BENCH_BIN:-$(find_bin bench_core)}
+PROFILE=$(dirname "${BIN:-/nonexistent}")/profile_core
+if [ -z "$BIN" ] || [ ! -x "$BIN" ]; then
+  echo "bench: bench_core not found (needs libbenchmark-dev and OpenCV's rgbd module at build" \
+       "time; source the workspace or set BENCH_BIN)" >&2
+  exit 1
+fi
+
+OUT=$ROOT/build/bench
+mkdir -p "$OUT" "$ROOT/docs"
+load=$(cut -d' ' -f1 /proc/loadavg)
+echo "bench: $BIN (load average $load; figures are only comparable on a quiet machine)"
+"$BIN" --benchmark_repetitions="${BENCH_REPETITIONS:-5}" --benchmark_report_aggregates_only=true \
+  --benchmark_filter="${BENCH_FILTER:-.}" \
+  --benchmark_out="$OUT/bench.json" --benchmark_out_format=json | tee "$OUT/bench.txt"
+
+# Peak resident memory of a process running detect() at 1280x760 (frames included).
+RSS_KB=""
+if [ -x "$PROFILE" ]; then
+  RSS_KB=$("$PROFILE" detect 1280 50 | sed -n 's/^peak RSS \([0-9]*\) kB$/\1/p')
+fi
+
+/usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" \
+  --rss-kb "${RSS_KB:-0}" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
+  --out "$ROOT/docs/PERFORMANCE.md" --plot "$ROOT/docs/performance.png"
+echo "bench: wrote docs/PERFORMANCE.md and docs/performance.png"
