@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/fals_normals.h"
+#include "rgbd_lane_detector/lane_tracker.h"
 #include "rgbd_lane_detector/line_template.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/template_matching.h"
@@ -62,6 +63,8 @@ class LaneDetector {
   /// on the pixel's ray, else NaN (never a zero depth).
   Eigen::Vector3f pointAt(const cv::Point2f& c) const;
   void fitPlane(Result& result);
+  /// fitPlane() with the temporal lane model (track_lanes).
+  void fitTracked(Result& result);
   bool planePlausible(const PlaneEstimate& plane) const;
   void snapToPlane(const PlaneEstimate& plane, MarkerTrace& m) const;
   bool laneWidthPlausible(const PlaneEstimate& plane, const MarkerTrace& L,
@@ -101,6 +104,10 @@ class LaneDetector {
   std::vector<float> trace_scores_;
   std::vector<Eigen::Vector3f> fit_points_;
   mutable std::vector<double> width_samples_;
+  LaneTracker tracker_;
+  std::vector<Eigen::Vector3f> samples_;
+  const std::vector<Eigen::Vector3f> samples_none_;
+  std::vector<Eigen::Vector2d> plane_coords_;
 };
 
 }  // namespace rgbd_lane_detector

@@ -77,6 +77,10 @@ struct Params {
   double lane_width_min = 0.0;    ///< with lane_width_max > 0: reject lanes narrower than this (m)
   double lane_width_max = 0.0;    ///< reject lanes wider than this (m); 0: no check
   bool report_only_complete = false;  ///< report markers only together with a valid plane
+  bool track_lanes = false;       ///< temporal lane model in the road plane (implies least squares)
+  double track_memory = 0.7;      ///< forgetting factor per frame of the lane model
+  int track_max_age = 10;         ///< frames a side survives without evidence
+  double track_gate = 0.5;        ///< measurements farther than this from the model are outliers (m)
 
   /// Paper-faithful configuration (the defaults).
   static Params paper() { return Params(); }

@@ -77,6 +77,7 @@ void LaneDetector::reset() {
   next_left_angle_ = defaultLeftAngle(params_.template_angle_deg);
   next_right_angle_ = defaultRightAngle(params_.template_angle_deg);
   previous_plane_.valid = false;
+  tracker_.reset();
   templates_dirty_ = true;
 }
 
@@ -358,141 +359,6 @@ Eigen::Vector3f LaneDetector::pointAt(const cv::Point2f& c) const {
   }
   const float nan = std::numeric_limits<float>::quiet_NaN();
   return Eigen::Vector3f(nan, nan, nan);
-}
-
-void LaneDetector::fitPlane(Result& result) {
-  const Params& p = params_;
-  MarkerTrace& L = result.left;
-  MarkerTrace& R = result.right;
-  // plane gate: drop marker points far from the previous plane
-  if (p.plane_gate > 0.0 && previous_plane_.valid) {
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    for (MarkerTrace* m : {&L, &R}) {
-      for (auto& q : m->points) {
-        if (!std::isnan(q.z()) && std::fabs(planeDistance(previous_plane_, q)) > p.plane_gate) {
-          q = Eigen::Vector3f(nan, nan, nan);
-          --m->num_valid_points;
-        }
-      }
-    }
-  }
-  L.found = L.num_valid_points >= p.min_marker_points;
-  R.found = R.num_valid_points >= p.min_marker_points;
-  PlaneEstimate& plane = result.plane;
-  plane.valid = false;
-  if (!L.found || !R.found) {
-    rejectIncomplete(result);
-    return;
-  }
-
-  if (p.plane_fit == PlaneFit::kThreePoint) {
-    // v_a1: best left match, v_b: best right match, v_a2: furthest right centroid
-    const float nan = std::numeric_limits<float>::quiet_NaN();
-    const Eigen::Vector3f& a1 = L.seed_point;
-    const Eigen::Vector3f& b = R.seed_point;
-    Eigen::Vector3f a2(nan, nan, nan);
-    for (auto it = R.points.rbegin(); it != R.points.rend(); ++it) {
-      if (!std::isnan(it->z())) {
-        a2 = *it;
-        break;
-      }
-    }
-    planeFromThreePoints(a1, b, a2, plane);
-  } else {
-    fit_points_.clear();
-    for (const auto& q : L.points) fit_points_.push_back(q);
-    for (const auto& q : R.points) fit_points_.push_back(q);
-    fitPlaneLeastSquares(fit_points_, 0.1, 3, plane);
-  }
-  if (!plane.valid || !planePlausible(plane)) {
-    plane.valid = false;
-    rejectIncomplete(result);
-    return;
-  }
-  if (p.plane_smoothing > 0.0 && previous_plane_.valid) {
-    const double w = p.plane_smoothing;
-    Eigen::Vector3d n = (1.0 - w) * plane.normal + w * previous_plane_.normal;
-    const double len = n.norm();
-    if (len > 1e-9) {
-      plane.normal = n / len;
-      plane.distance = (1.0 - w) * plane.distance + w * previous_plane_.distance;
-    }
-  }
-  if (p.snap_to_plane) {
-    snapToPlane(plane, L);
-    snapToPlane(plane, R);
-  }
-  if (!laneWidthPlausible(plane, L, R)) {
-    plane.valid = false;
-    rejectIncomplete(result);
-  }
-}
-
-bool LaneDetector::planePlausible(const PlaneEstimate& plane) const {
-  const Params& p = params_;
-  const Eigen::Vector3d up(p.up_x, p.up_y, p.up_z);
-  // the normal points toward the camera, i.e. up; allow |tilt| up to plane_max_tilt_deg
-  const double cos_tilt = plane.normal.dot(up);
-  if (p.plane_max_tilt_deg < 90.0 && cos_tilt < std::cos(p.plane_max_tilt_deg * M_PI / 180.0))
-    return false;
-  return plane.distance >= p.plane_distance_min && plane.distance <= p.plane_distance_max;
-}
-
-void LaneDetector::snapToPlane(const PlaneEstimate& plane, MarkerTrace& m) const {
-  // Markers are paint on the road: their 3D points are where their pixel rays meet the plane.
-  m.num_valid_points = 0;
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (size_t i = 0; i < m.pixels.size(); ++i) {
-    const Eigen::Vector3d ray((m.pixels[i].x - proc_K_.cx) / proc_K_.fx,
-                              (m.pixels[i].y - proc_K_.cy) / proc_K_.fy, 1.0);
-    const double denom = plane.normal.dot(ray);
-    const double t = denom < -1e-9 ? -plane.distance / denom : -1.0;
-    if (t > 0.0 && t * ray.z() <= params_.max_depth) {
-      m.points[i] = (ray * t).cast<float>();
-      ++m.num_valid_points;
-    } else {
-      m.points[i] = Eigen::Vector3f(nan, nan, nan);
-    }
-  }
-  m.found = m.num_valid_points >= params_.min_marker_points;
-}
-
-bool LaneDetector::laneWidthPlausible(const PlaneEstimate& plane, const MarkerTrace& L,
-                                      const MarkerTrace& R) const {
-  const Params& p = params_;
-  if (p.lane_width_max <= 0.0) return true;
-  // lateral axis of the road: the optical axis projected into the plane, crossed with the normal
-  Eigen::Vector3d fwd = Eigen::Vector3d::UnitZ() - plane.normal * plane.normal.z();
-  if (fwd.norm() < 1e-6) return false;
-  fwd.normalize();
-  const Eigen::Vector3d side = fwd.cross(plane.normal).normalized();
-  // for each left point, the right point nearest in the forward direction
-  width_samples_.clear();
-  for (const auto& l : L.points) {
-    if (!l.allFinite()) continue;
-    const double fl = fwd.dot(l.cast<double>());
-    double best = std::numeric_limits<double>::infinity(), lat = 0.0;
-    for (const auto& r : R.points) {
-      if (!r.allFinite()) continue;
-      const double df = std::fabs(fwd.dot(r.cast<double>()) - fl);
-      if (df < best) {
-        best = df;
-        lat = side.dot((r - l).cast<double>());
-      }
-    }
-    if (best < 2.0) width_samples_.push_back(std::fabs(lat) * (lat >= 0 ? 1.0 : -1.0));
-  }
-  if (width_samples_.size() < 3) return false;
-  std::nth_element(width_samples_.begin(), width_samples_.begin() + width_samples_.size() / 2,
-                   width_samples_.end());
-  const double width = width_samples_[width_samples_.size() / 2];
-  return width >= p.lane_width_min && width <= p.lane_width_max;
-}
-
-void LaneDetector::rejectIncomplete(Result& result) const {
-  if (!params_.report_only_complete) return;
-  result.left.found = false;
-  result.right.found = false;
 }
 
 void LaneDetector::updateTemplates(const Result& result) {

@@ -27,6 +27,7 @@ Params Params::improved() {
   p.lane_width_min = 2.0;
   p.lane_width_max = 5.5;
   p.report_only_complete = true;
+  p.track_lanes = true;
   return p;
 }
 
@@ -77,6 +78,9 @@ Params sanitize(const Params& in) {
       clampFinite(p.plane_distance_max, p.plane_distance_min, 1e6, d.plane_distance_max);
   p.lane_width_min = clampFinite(p.lane_width_min, 0.0, 100.0, d.lane_width_min);
   p.lane_width_max = clampFinite(p.lane_width_max, 0.0, 100.0, d.lane_width_max);
+  p.track_memory = clampFinite(p.track_memory, 0.0, 0.99, d.track_memory);
+  p.track_max_age = std::min(std::max(p.track_max_age, 0), 10000);
+  p.track_gate = clampFinite(p.track_gate, 0.01, 100.0, d.track_gate);
 
   p.gap_steps = std::min(std::max(p.gap_steps, 0), 10000);
   p.road_gate_cos = clampFinite(p.road_gate_cos, 0.0, 1.0, d.road_gate_cos);

@@ -75,6 +75,10 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       RLD_FIELD(member, lane_width_min),
       RLD_FIELD(member, lane_width_max),
       RLD_FIELD(boolean, report_only_complete),
+      RLD_FIELD(boolean, track_lanes),
+      RLD_FIELD(member, track_memory),
+      RLD_FIELD(member, track_max_age),
+      RLD_FIELD(member, track_gate),
   };
   return table;
 }
