@@ -127,7 +127,10 @@ fi
     [ "$sensor" != clean ] && name="${scenario}_${sensor}"
     echo "- \`$name\`: ![$name](images/$name.jpg) [per-frame scores](images/scores_$name.png)"
   done
-  [ -f "$IMAGES/kitti.jpg" ] && echo "- KITTI: ![kitti](images/kitti.jpg)"
+  for f in "$IMAGES"/kitti_*.jpg; do
+    [ -f "$f" ] && echo "- KITTI $(basename "$f" .jpg | sed 's/^kitti_//') (improved): ![kitti](images/$(basename "$f"))"
+  done
+  [ -f "$IMAGES/tum_office.jpg" ] && echo "- TUM office (no road): ![tum_office](images/tum_office.jpg)"
   echo
   echo "![summary](images/summary.png)"
 } > "$EVAL_DIR/generated.md"

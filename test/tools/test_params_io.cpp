@@ -56,7 +56,7 @@ TEST(ParamsIo, BadValuesAndFilesAreErrors) {
   Params p = Params::paper();
   const Params before = p;
   std::string error;
-  const std::string bad = writeTemp("rgbd_params_bad.yaml", "tau_c: 12.5\nalpha: 0.3\n");
+  const std::string bad = writeTemp("rgbd_params_bad.yaml", "alpha: 0.3\ntau_c: abc\n");
   EXPECT_FALSE(loadParamsYaml(bad, p, error));
   EXPECT_NE(error.find("tau_c"), std::string::npos);
   EXPECT_EQ(p.alpha, before.alpha);  // nothing applied on error

@@ -87,7 +87,7 @@ def plot_summary(data, out_path):
         for m in data[s]:
             if m not in modes:
                 modes.append(m)
-    fig, ax = plt.subplots(figsize=(max(8, 1.1 * len(sequences) * len(modes) / 2), 4.2))
+    fig, ax = plt.subplots(figsize=(max(8.0, 1.05 * len(sequences) + 1.5), 4.6))
     width = 0.8 / max(len(modes), 1)
     for j, mode in enumerate(modes):
         for i, s in enumerate(sequences):
@@ -101,7 +101,7 @@ def plot_summary(data, out_path):
                        edgecolor="white", lw=0.3)
                 bottom += v
             ax.text(x, 101, mode.replace("-colour", "-c").replace("improved", "imp"),
-                    rotation=90, fontsize=6, ha="center", va="bottom")
+                    rotation=90, fontsize=7, ha="center", va="bottom")
     ax.set_xticks(range(len(sequences)))
     ax.set_xticklabels(sequences, rotation=30, ha="right", fontsize=8)
     ax.set_ylim(0, 125)
