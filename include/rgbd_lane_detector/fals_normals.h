@@ -65,13 +65,12 @@ class FalsNormals {
   void computeGeometric(const cv::Mat& points, const cv::Range& rows, const Params& p, cv::Mat& G,
                         cv::Mat* normals = nullptr);
 
-  /// Unit ray through each pixel (CV_32FC3), valid after configure().
-  const cv::Mat& rays() const { return rays_; }
   int window() const { return window_; }
 
  private:
   struct Output;
   void run(const cv::Mat& points, const cv::Range& rows, const Output& out);
+  void ensureTable(const cv::Range& rows);
   void prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, float* z,
                   uint64_t* bad) const;
   bool solveWindow(int x, int y, const float* const* kv, const float* const* t,
@@ -86,14 +85,14 @@ class FalsNormals {
   std::vector<float> ax_, ay_;      ///< ray coordinates (u - cx) / fx per column, per row
   std::vector<int> src_u_, src_v_;  ///< source pixel of each column, row
   std::vector<float> ncols_;        ///< window columns inside the image, per column
-  cv::Mat rays_;                    ///< CV_32FC3 unit rays
   cv::Mat k_;                       ///< CV_32FC1 1 / |w|^2 per pixel
-  cv::Mat table_;                   ///< CV_32FC1 6 planes of H rows: adj(Q) of whole windows
-  cv::Mat prep_;                    ///< CV_32FC1 ring of prepared rows: k valid, k / z, valid, z
-  std::vector<uint64_t> bad_;       ///< bit per ring slot and 8-pixel block: invalid pixels
-  std::vector<uint64_t> near_;      ///< bit per block: missing pixels within the windows' reach
-  cv::Mat vert_;                    ///< CV_32FC1 vertical sums of one row (8 padded planes)
-  std::vector<int> slow_;           ///< columns of the current row left to the exact path
+  cv::Mat table_;  ///< CV_32FC1 6 planes of the rows table_rows_: adj(Q), whole windows
+  cv::Range table_rows_;
+  cv::Mat prep_;                ///< CV_32FC1 ring of prepared rows: k valid, k / z, valid, z
+  std::vector<uint64_t> bad_;   ///< bit per ring slot and 8-pixel block: invalid pixels
+  std::vector<uint64_t> near_;  ///< bit per block: missing pixels within the windows' reach
+  cv::Mat vert_;                ///< CV_32FC1 vertical sums of one row (8 padded planes)
+  std::vector<int> slow_;       ///< columns of the current row left to the exact path
   static constexpr int kColumnSums = 8;
   std::vector<double> column_;   ///< exact path: per column, sums over the window's rows
   std::vector<int> column_row_;  ///< row whose sums column_ holds, per column

@@ -7,9 +7,9 @@
 #include <cstring>
 #include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #include <immintrin.h>
-#define RLD_FALS_AVX2 1
+#define RLD_FALS_SIMD 1
 #endif
 
 namespace rgbd_lane_detector {
@@ -149,221 +149,98 @@ inline void finish(const float n[3], bool ok, const float* p, float ax, const Ro
   }
 }
 
-#ifdef RLD_FALS_AVX2
-#define RLD_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
-RLD_AVX2_INLINE __m256 mul(__m256 a, __m256 b) {
-  return _mm256_mul_ps(a, b);
-}
-RLD_AVX2_INLINE __m256 add(__m256 a, __m256 b) {
-  return _mm256_add_ps(a, b);
-}
-RLD_AVX2_INLINE __m256 sub(__m256 a, __m256 b) {
-  return _mm256_sub_ps(a, b);
-}
-
-// z of eight interleaved points (x, y, z) starting at p.
-RLD_AVX2_INLINE __m256 loadZ8(const float* p) {
-  const __m256 a = _mm256_loadu_ps(p), b = _mm256_loadu_ps(p + 8), c = _mm256_loadu_ps(p + 16);
-  // lanes 0,3,6 from b, 1,4,7 from c, 2,5 from a: [b0 c1 a2 b3 c4 a5 b6 c7]
-  const __m256 m = _mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92);
-  return _mm256_permutevar8x32_ps(m, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
-}
-
-// moments() for eight adjacent x: the value at offset d is at p + d * stride.
-template <int H, bool kSecond = false>
-RLD_AVX2_INLINE void moments8(const float* p, std::ptrdiff_t stride, __m256& box, __m256& m1,
-                              __m256* m2 = nullptr) {
-  box = _mm256_loadu_ps(p);
-  m1 = _mm256_setzero_ps();
-  __m256 second = _mm256_setzero_ps();
-  for (int d = 1; d <= H; ++d) {
-    const __m256 a0 = _mm256_loadu_ps(p + d * stride), b0 = _mm256_loadu_ps(p - d * stride);
-    const __m256 a = add(a0, b0);
-    box = add(box, a);
-    m1 = add(m1, mul(_mm256_set1_ps(static_cast<float>(d)), sub(a0, b0)));
-    if (kSecond) second = add(second, mul(_mm256_set1_ps(static_cast<float>(d * d)), a));
+#ifdef RLD_FALS_SIMD
+// The kernels of fals_kernels.inc, compiled for AVX2 and for AVX-512 (chosen at run time), with
+// FMA contraction off so that every instruction set computes the scalar code's values.
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#pragma GCC optimize("fp-contract=off")
+namespace avx2 {
+struct V {
+  static constexpr int N = 8;
+  using T = __m256;
+  using M = __m256;
+  static T load(const float* p) { return _mm256_loadu_ps(p); }
+  static void store(float* p, T v) { _mm256_storeu_ps(p, v); }
+  static T set1(float f) { return _mm256_set1_ps(f); }
+  static T zero() { return _mm256_setzero_ps(); }
+  static T add(T a, T b) { return _mm256_add_ps(a, b); }
+  static T sub(T a, T b) { return _mm256_sub_ps(a, b); }
+  static T mul(T a, T b) { return _mm256_mul_ps(a, b); }
+  static T div(T a, T b) { return _mm256_div_ps(a, b); }
+  static T sqrt(T a) { return _mm256_sqrt_ps(a); }
+  static T abs(T a) { return _mm256_and_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF))); }
+  static M gt(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+  static M ge(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+  static M lt(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+  static M le(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+  static M eq(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+  static M mand(M a, M b) { return _mm256_and_ps(a, b); }
+  static M mor(M a, M b) { return _mm256_or_ps(a, b); }
+  static M mandnot(M a, M b) { return _mm256_andnot_ps(a, b); }  // b and not a
+  static M ones() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
+  static T select(M m, T a, T b) { return _mm256_blendv_ps(b, a, m); }  // m ? a : b
+  static T keep(M m, T a) { return _mm256_and_ps(m, a); }
+  static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_ps(m)); }
+  // z of eight interleaved points (x, y, z) starting at p
+  static T loadZ(const float* p) {
+    const T a = load(p), b = load(p + 8), c = load(p + 16);
+    // lanes 0,3,6 from b, 1,4,7 from c, 2,5 from a: [b0 c1 a2 b3 c4 a5 b6 c7]
+    const T m = _mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92);
+    return _mm256_permutevar8x32_ps(m, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
   }
-  if (kSecond) *m2 = second;
-}
+};
+#include "fals_kernels.inc"
+}  // namespace avx2
+#pragma GCC pop_options
 
-// moments8() over separate rows: the value at offset d is at rows[H + d] + off.
-template <int H, bool kSecond = false>
-RLD_AVX2_INLINE void moments8Rows(const float* const* rows, std::ptrdiff_t off, __m256& box,
-                                  __m256& m1, __m256* m2 = nullptr) {
-  box = _mm256_loadu_ps(rows[H] + off);
-  m1 = _mm256_setzero_ps();
-  __m256 second = _mm256_setzero_ps();
-  for (int d = 1; d <= H; ++d) {
-    const __m256 a0 = _mm256_loadu_ps(rows[H + d] + off), b0 = _mm256_loadu_ps(rows[H - d] + off);
-    const __m256 a = add(a0, b0);
-    box = add(box, a);
-    m1 = add(m1, mul(_mm256_set1_ps(static_cast<float>(d)), sub(a0, b0)));
-    if (kSecond) second = add(second, mul(_mm256_set1_ps(static_cast<float>(d * d)), a));
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+#pragma GCC optimize("fp-contract=off")
+namespace avx512 {
+struct V {
+  static constexpr int N = 16;
+  using T = __m512;
+  using M = __mmask16;
+  static T load(const float* p) { return _mm512_loadu_ps(p); }
+  static void store(float* p, T v) { _mm512_storeu_ps(p, v); }
+  static T set1(float f) { return _mm512_set1_ps(f); }
+  static T zero() { return _mm512_setzero_ps(); }
+  static T add(T a, T b) { return _mm512_add_ps(a, b); }
+  static T sub(T a, T b) { return _mm512_sub_ps(a, b); }
+  static T mul(T a, T b) { return _mm512_mul_ps(a, b); }
+  static T div(T a, T b) { return _mm512_div_ps(a, b); }
+  static T sqrt(T a) { return _mm512_maskz_sqrt_ps(0xFFFF, a); }  // (no undefined-value warning)
+  static T abs(T a) { return _mm512_abs_ps(a); }
+  static M gt(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
+  static M ge(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
+  static M lt(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+  static M le(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
+  static M eq(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
+  static M mand(M a, M b) { return static_cast<M>(a & b); }
+  static M mor(M a, M b) { return static_cast<M>(a | b); }
+  static M mandnot(M a, M b) { return static_cast<M>(~a & b); }  // b and not a
+  static M ones() { return static_cast<M>(0xFFFF); }
+  static T select(M m, T a, T b) { return _mm512_mask_blend_ps(m, b, a); }  // m ? a : b
+  static T keep(M m, T a) { return _mm512_maskz_mov_ps(m, a); }
+  static unsigned bits(M m) { return m; }
+  // z of sixteen interleaved points (x, y, z) starting at p: elements 2, 5, ..., 47
+  static T loadZ(const float* p) {
+    const T a = load(p), b = load(p + 16), c = load(p + 32);
+    const __m512i ab = _mm512_setr_epi32(2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0);
+    const __m512i tc = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31);
+    return _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, ab, b), tc, c);
   }
-  if (kSecond) *m2 = second;
-}
+};
+#include "fals_kernels.inc"
+}  // namespace avx512
+#pragma GCC pop_options
 
-// Prepared row (kv, t, c and z itself), eight pixels per step; bit b of bad: block b has
-// invalid pixels.
-__attribute__((target("avx2"))) void prepareAvx2(const float* p, const float* k, int n, float* kv,
-                                                 float* t, float* c, float* zs, uint64_t* bad,
-                                                 int& done) {
-  const __m256 zero = _mm256_setzero_ps(), inf = _mm256_set1_ps(kInf), one = _mm256_set1_ps(1.f);
-  int x = 0;
-  for (; x + 8 <= n; x += 8) {
-    const __m256 z = loadZ8(p + 3 * x), kk = _mm256_loadu_ps(k + x);
-    _mm256_storeu_ps(zs + x, z);
-    const __m256 valid =
-        _mm256_and_ps(_mm256_cmp_ps(z, zero, _CMP_GT_OQ), _mm256_cmp_ps(z, inf, _CMP_LT_OQ));
-    _mm256_storeu_ps(kv + x, _mm256_and_ps(valid, kk));
-    _mm256_storeu_ps(t + x,
-                     _mm256_and_ps(valid, _mm256_div_ps(kk, _mm256_blendv_ps(one, z, valid))));
-    _mm256_storeu_ps(c + x, _mm256_and_ps(valid, one));
-    if (_mm256_movemask_ps(valid) != 0xFF) bad[x / 512] |= uint64_t{1} << (x / 8 % 64);
-  }
-  done = x;
-}
-
-// Vertical sums of eight columns: rows[H + d] holds the prepared row at offset d (planes kv, t,
-// c at 0, W, 2 W). The kv and c moments are only needed near missing pixels (bit b of holes for
-// block b).
-template <int H>
-__attribute__((target("avx2"))) void verticalAvx2(const float* const* rows, int W,
-                                                  const uint64_t* holes, float* const* out,
-                                                  int& done) {
-  int x = 0;
-  for (; x + 8 <= W; x += 8) {
-    __m256 w0, w1, n, n1, n2;
-    moments8Rows<H>(rows, W + x, w0, w1);
-    _mm256_storeu_ps(out[kW0] + x, w0);
-    _mm256_storeu_ps(out[kW1] + x, w1);
-    if (!(holes[x / 512] >> (x / 8 % 64) & 1)) {
-      moments8Rows<H>(rows, 2 * W + x, n, n1);
-      _mm256_storeu_ps(out[kC] + x, n);
-      continue;
-    }
-    __m256 v0, v1, v2;
-    moments8Rows<H, true>(rows, 2 * W + x, n, n1, &n2);
-    moments8Rows<H, true>(rows, x, v0, v1, &v2);
-    _mm256_storeu_ps(out[kC] + x, n);
-    _mm256_storeu_ps(out[kCv1] + x, n1);
-    _mm256_storeu_ps(out[kCv2] + x, n2);
-    _mm256_storeu_ps(out[kV0] + x, v0);
-    _mm256_storeu_ps(out[kV1] + x, v1);
-    _mm256_storeu_ps(out[kV2] + x, v2);
-  }
-  done = x;
-}
-
-// Horizontal sums, solve and G of eight pixels per step, the scalar code's operations lane for
-// lane. Bit b of holes: missing pixels within reach of block b's windows. Windows without missing
-// pixels use the precomputed adj(Q) (table planes at table[j] + x),
-// the others solvePartial(), whose ill-conditioned columns are appended to `slow` for the exact
-// double path (their G is written there). Normals (rarely wanted) are finished by the scalar
-// code from the same n'.
-template <int H>
-__attribute__((target("avx2"))) void horizontalAvx2(
-    const float* const* vert, const float* const* table, int n, const float* ncols, const float* ax,
-    const RowConst& rc, const float* prow, const float* zrow, float* nrow, float* grow,
-    const uint64_t* holes, int* slow, int& n_slow, int& done) {
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f), three = _mm256_set1_ps(3.f);
-  const __m256 inf = _mm256_set1_ps(kInf), ninf = _mm256_set1_ps(-kInf);
-  const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF));
-  const __m256 fxs = _mm256_set1_ps(rc.fxs), fys = _mm256_set1_ps(rc.fys),
-               ay = _mm256_set1_ps(rc.ay), full_rows = _mm256_set1_ps(rc.full_rows);
-  const __m256 u0 = _mm256_set1_ps(rc.up[0]), u1 = _mm256_set1_ps(rc.up[1]),
-               u2 = _mm256_set1_ps(rc.up[2]);
-  const __m256 alpha = _mm256_set1_ps(rc.alpha), beta = _mm256_set1_ps(rc.beta),
-               td = _mm256_set1_ps(rc.td), inv_td = _mm256_set1_ps(rc.inv_td),
-               row_term = _mm256_set1_ps(rc.row_term);
-  int x = 0;
-  for (; x + 8 <= n; x += 8) {
-    __m256 T0, Tu, Tv, N = zero, unused;
-    moments8<H>(vert[kW0] + x, 1, T0, Tu);
-    moments8<H>(vert[kW1] + x, 1, Tv, unused);
-    // without missing pixels in the rows every window is whole
-    __m256 whole = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-    const bool holed = holes[x / 512] >> (x / 8 % 64) & 1;
-    if (holed) {
-      moments8<H>(vert[kC] + x, 1, N, unused);
-      whole = _mm256_cmp_ps(N, mul(_mm256_loadu_ps(ncols + x), full_rows), _CMP_EQ_OQ);
-    }
-    __m256 ok = whole;  // whole windows have at least 4 pixels
-    __m256 a[6];
-    for (int j = 0; j < 6; ++j) a[j] = _mm256_loadu_ps(table[j] + x);
-    __m256 m0 = add(add(mul(a[0], T0), mul(a[1], Tu)), mul(a[2], Tv));
-    __m256 m1 = add(add(mul(a[1], T0), mul(a[3], Tu)), mul(a[4], Tv));
-    __m256 m2 = add(add(mul(a[2], T0), mul(a[4], Tu)), mul(a[5], Tv));
-    const bool some =
-        holed && _mm256_movemask_ps(_mm256_andnot_ps(whole, _mm256_cmp_ps(N, three, _CMP_GE_OQ)));
-    if (some) {
-      // windows with 3 or more valid pixels, some missing: solvePartial(), lane for lane
-      __m256 K0, Ku, Kuu, Kv, Kuv, Kvv, Cu1, Cu2, Cb1, Cb2, unused;
-      moments8<H, true>(vert[kV0] + x, 1, K0, Ku, &Kuu);
-      moments8<H>(vert[kV1] + x, 1, Kv, Kuv);
-      moments8<H>(vert[kV2] + x, 1, Kvv, unused);
-      moments8<H, true>(vert[kC] + x, 1, N, Cu1, &Cu2);
-      moments8<H>(vert[kCv1] + x, 1, Cb1, unused);
-      moments8<H>(vert[kCv2] + x, 1, Cb2, unused);
-      const __m256 span = _mm256_and_ps(
-          _mm256_cmp_ps(N, three, _CMP_GE_OQ),
-          _mm256_and_ps(_mm256_cmp_ps(sub(mul(N, Cu2), mul(Cu1, Cu1)), zero, _CMP_GT_OQ),
-                        _mm256_cmp_ps(sub(mul(N, Cb2), mul(Cb1, Cb1)), zero, _CMP_GT_OQ)));
-      const __m256 a00 = sub(mul(Kuu, Kvv), mul(Kuv, Kuv));
-      const __m256 a01 = sub(mul(Kuv, Kv), mul(Ku, Kvv));
-      const __m256 a02 = sub(mul(Ku, Kuv), mul(Kuu, Kv));
-      const __m256 a11 = sub(mul(K0, Kvv), mul(Kv, Kv));
-      const __m256 a12 = sub(mul(Ku, Kv), mul(K0, Kuv));
-      const __m256 a22 = sub(mul(K0, Kuu), mul(Ku, Ku));
-      const __m256 det = add(add(mul(K0, a00), mul(Ku, a01)), mul(Kv, a02));
-      const __m256 well = _mm256_cmp_ps(
-          det, mul(_mm256_set1_ps(kWellConditioned), mul(mul(K0, Kuu), Kvv)), _CMP_GT_OQ);
-      const __m256 part = _mm256_andnot_ps(whole, span);
-      const int exact = _mm256_movemask_ps(_mm256_andnot_ps(well, part));
-      for (int i = 0; i < 8; ++i)
-        if (exact >> i & 1) slow[n_slow++] = x + i;
-      const __m256 p0 = add(add(mul(a00, T0), mul(a01, Tu)), mul(a02, Tv));
-      const __m256 p1 = add(add(mul(a01, T0), mul(a11, Tu)), mul(a12, Tv));
-      const __m256 p2 = add(add(mul(a02, T0), mul(a12, Tu)), mul(a22, Tv));
-      m0 = _mm256_blendv_ps(p0, m0, whole);
-      m1 = _mm256_blendv_ps(p1, m1, whole);
-      m2 = _mm256_blendv_ps(p2, m2, whole);
-      ok = _mm256_or_ps(whole, _mm256_and_ps(part, well));
-    } else if (holed) {
-      ok = whole;  // the others have fewer than 3 valid pixels
-    }
-    const __m256 n0 = mul(fxs, m1), n1 = mul(fys, m2);
-    const __m256 n2 = sub(sub(m0, mul(_mm256_loadu_ps(ax + x), n0)), mul(ay, n1));
-    if (nrow) {
-      alignas(32) float b0[8], b1[8], b2[8], okf[8];
-      _mm256_store_ps(b0, n0);
-      _mm256_store_ps(b1, n1);
-      _mm256_store_ps(b2, n2);
-      _mm256_store_ps(okf, ok);
-      for (int i = 0; i < 8; ++i) {
-        const float nn[3] = {b0[i], b1[i], b2[i]};
-        uint32_t bits;
-        std::memcpy(&bits, &okf[i], 4);
-        finish(nn, bits != 0, prow + 3 * (x + i), ax[x + i], rc, nrow + 3 * (x + i),
-               grow ? grow + x + i : nullptr);
-      }
-      continue;
-    }
-    const __m256 len2 = add(add(mul(n0, n0), mul(n1, n1)), mul(n2, n2));
-    ok = _mm256_and_ps(ok, _mm256_and_ps(_mm256_cmp_ps(len2, zero, _CMP_GT_OQ),
-                                         _mm256_cmp_ps(len2, inf, _CMP_LT_OQ)));
-    const __m256 inv_len = _mm256_div_ps(one, _mm256_sqrt_ps(_mm256_blendv_ps(one, len2, ok)));
-    const __m256 nup =
-        mul(_mm256_and_ps(abs_mask, add(add(mul(n0, u0), mul(n1, u1)), mul(n2, u2))), inv_len);
-    const __m256 normal_term = _mm256_and_ps(ok, nup);
-    const __m256 z = _mm256_loadu_ps(zrow + x);
-    const __m256 near =
-        _mm256_and_ps(_mm256_cmp_ps(z, td, _CMP_LE_OQ), _mm256_cmp_ps(z, ninf, _CMP_GT_OQ));
-    const __m256 depth_term = rc.near_high ? mul(sub(td, z), inv_td) : mul(z, inv_td);
-    _mm256_storeu_ps(grow + x, add(mul(alpha, normal_term),
-                                   mul(beta, _mm256_blendv_ps(row_term, depth_term, near))));
-  }
-  done = x;
+/// Widest vector kernels the CPU runs: 2 AVX-512, 1 AVX2, 0 none.
+int simdLevel() {
+  static const int level =
+      __builtin_cpu_supports("avx512f") ? 2 : (__builtin_cpu_supports("avx2") ? 1 : 0);
+  return level;
 }
 #endif
 
@@ -378,7 +255,7 @@ struct FalsNormals::Output {
 void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int window,
                             const cv::Mat& col_map, const cv::Mat& row_map) {
   if (size == size_ && window == window_ && sameIntrinsics(K, K_) && sameMap(col_map, col_map_) &&
-      sameMap(row_map, row_map_) && !rays_.empty())
+      sameMap(row_map, row_map_) && !k_.empty())
     return;
   size_ = size;
   K_ = K;
@@ -408,68 +285,71 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   };
   uniform_ = uniform(src_u_, step_u_) & uniform(src_v_, step_v_);
 
-  rays_.create(size, CV_32FC3);
   k_.create(size, CV_32FC1);
   for (int y = 0; y < H; ++y) {
     const double ry = (src_v_[y] - K.cy) / K.fy;
-    float* ray = rays_.ptr<float>(y);
     float* k = k_.ptr<float>(y);
-    for (int x = 0; x < W; ++x, ray += 3) {
+    for (int x = 0; x < W; ++x) {
       const double rx = (src_u_[x] - K.cx) / K.fx;
-      const double w2 = rx * rx + ry * ry + 1.0;
-      const double inv = 1.0 / std::sqrt(w2);
-      ray[0] = static_cast<float>(rx * inv);
-      ray[1] = static_cast<float>(ry * inv);
-      ray[2] = static_cast<float>(inv);
-      k[x] = static_cast<float>(1.0 / w2);
+      k[x] = static_cast<float>(1.0 / (rx * rx + ry * ry + 1.0));
     }
   }
   ncols_.resize(W);
   for (int x = 0; x < W; ++x)
     ncols_[x] = static_cast<float>(std::min(W - 1, x + h) - std::max(0, x - h) + 1);
 
-  // adj(Q) of every window without missing pixels (clipped by the image), in double: moments of
-  // k over offsets in processing pixels (the source step is folded into fx / step, fy / step).
-  if (uniform_) {
-    table_.create(6 * H, W, CV_32FC1);
-    std::vector<double> vk(3 * static_cast<size_t>(W));
-    for (int y = 0; y < H; ++y) {
-      std::fill(vk.begin(), vk.end(), 0.0);
-      for (int dv = -h; dv <= h; ++dv) {
-        if (y + dv < 0 || y + dv >= H) continue;
-        const float* k = k_.ptr<float>(y + dv);
-        for (int x = 0; x < W; ++x) {
-          vk[3 * x] += k[x];
-          vk[3 * x + 1] += dv * static_cast<double>(k[x]);
-          vk[3 * x + 2] += dv * dv * static_cast<double>(k[x]);
-        }
-      }
-      for (int x = 0; x < W; ++x) {
-        double K0 = 0, Ku = 0, Kv = 0, Kuu = 0, Kuv = 0, Kvv = 0;
-        for (int du = -h; du <= h; ++du) {
-          if (x + du < 0 || x + du >= W) continue;
-          const double* v = &vk[3 * (x + du)];
-          K0 += v[0];
-          Ku += du * v[0];
-          Kuu += du * du * v[0];
-          Kv += v[1];
-          Kuv += du * v[1];
-          Kvv += v[2];
-        }
-        const double a[6] = {Kuu * Kvv - Kuv * Kuv, Kuv * Kv - Ku * Kvv, Ku * Kuv - Kuu * Kv,
-                             K0 * Kvv - Kv * Kv,    Ku * Kv - K0 * Kuv,  K0 * Kuu - Ku * Ku};
-        for (int j = 0; j < 6; ++j) table_.ptr<float>(j * H + y)[x] = static_cast<float>(a[j]);
-      }
-    }
-  } else {
-    table_.release();
-  }
+  table_.release();  // computed for the rows in use by the first run()
+  table_rows_ = cv::Range(0, 0);
   prep_.create(4 * (2 * h + 1), W, CV_32FC1);
   vert_.create(kPlanes, W + 2 * h, CV_32FC1);
   vert_.setTo(0);  // the h columns each side stay 0: outside the image
   slow_.resize(W);
   column_.resize(kColumnSums * static_cast<size_t>(W));
   column_row_.assign(W, -1);
+}
+
+void FalsNormals::ensureTable(const cv::Range& rows) {
+  if (!uniform_ || (rows.start >= table_rows_.start && rows.end <= table_rows_.end)) return;
+  // adj(Q) of every window without missing pixels (clipped by the image), in double: moments of
+  // k over offsets in processing pixels (the source step is folded into fx / step, fy / step).
+  // Kept for the rows in use only (24 bytes per pixel).
+  if (table_rows_.size() > 0)
+    table_rows_ =
+        cv::Range(std::min(rows.start, table_rows_.start), std::max(rows.end, table_rows_.end));
+  else
+    table_rows_ = rows;
+  const int W = size_.width, H = size_.height, h = window_ / 2, n = table_rows_.size();
+  table_.create(6 * n, W, CV_32FC1);
+  std::vector<double> vk(3 * static_cast<size_t>(W));
+  for (int y = table_rows_.start; y < table_rows_.end; ++y) {
+    std::fill(vk.begin(), vk.end(), 0.0);
+    for (int dv = -h; dv <= h; ++dv) {
+      if (y + dv < 0 || y + dv >= H) continue;
+      const float* k = k_.ptr<float>(y + dv);
+      for (int x = 0; x < W; ++x) {
+        vk[3 * x] += k[x];
+        vk[3 * x + 1] += dv * static_cast<double>(k[x]);
+        vk[3 * x + 2] += dv * dv * static_cast<double>(k[x]);
+      }
+    }
+    for (int x = 0; x < W; ++x) {
+      double K0 = 0, Ku = 0, Kv = 0, Kuu = 0, Kuv = 0, Kvv = 0;
+      for (int du = -h; du <= h; ++du) {
+        if (x + du < 0 || x + du >= W) continue;
+        const double* v = &vk[3 * (x + du)];
+        K0 += v[0];
+        Ku += du * v[0];
+        Kuu += du * du * v[0];
+        Kv += v[1];
+        Kuv += du * v[1];
+        Kvv += v[2];
+      }
+      const double a[6] = {Kuu * Kvv - Kuv * Kuv, Kuv * Kv - Ku * Kvv, Ku * Kuv - Kuu * Kv,
+                           K0 * Kvv - Kv * Kv,    Ku * Kv - K0 * Kuv,  K0 * Kuu - Ku * Ku};
+      for (int j = 0; j < 6; ++j)
+        table_.ptr<float>(j * n + y - table_rows_.start)[x] = static_cast<float>(a[j]);
+    }
+  }
 }
 
 void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, float* z,
@@ -486,9 +366,9 @@ void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, 
   const float* p = points.ptr<float>(y);
   const float* k = k_.ptr<float>(y);
   int x = 0;
-#ifdef RLD_FALS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) prepareAvx2(p, k, W, kv, t, c, z, bad, x);
+#ifdef RLD_FALS_SIMD
+  if (simdLevel() == 2) avx512::prepare(p, k, W, kv, t, c, z, bad, x);
+  if (simdLevel() == 1) avx2::prepare(p, k, W, kv, t, c, z, bad, x);
 #endif
   for (; x < W; ++x) {
     const float d = z[x] = p[3 * x + 2];
@@ -599,9 +479,7 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
   const int W = size_.width, H = size_.height, h = window_ / 2, span = 2 * h + 1;
   const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, H);
   if (r0 >= r1) return;
-#ifdef RLD_FALS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-#endif
+  ensureTable(cv::Range(r0, r1));
 
   // Ring of prepared rows (planes kv, t, c, z), row r in slot r mod span.
   auto slot = [&](int r) { return prep_.ptr<float>(4 * (((r % span) + span) % span)); };
@@ -671,11 +549,28 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       near_v[j] = near_h[j] | shifted(j, 2) | shifted(j, -2);
     }
     int x = 0;
-#ifdef RLD_FALS_AVX2
-    if (avx2) {
-      if (h == 1) verticalAvx2<1>(kv_rows, W, near_v, vert, x);
-      if (h == 2) verticalAvx2<2>(kv_rows, W, near_v, vert, x);
-      if (h == 3) verticalAvx2<3>(kv_rows, W, near_v, vert, x);
+#ifdef RLD_FALS_SIMD
+    switch (simdLevel() * 10 + h) {
+      case 21:
+        avx512::vertical<1>(kv_rows, W, near_v, vert, x);
+        break;
+      case 22:
+        avx512::vertical<2>(kv_rows, W, near_v, vert, x);
+        break;
+      case 23:
+        avx512::vertical<3>(kv_rows, W, near_v, vert, x);
+        break;
+      case 11:
+        avx2::vertical<1>(kv_rows, W, near_v, vert, x);
+        break;
+      case 12:
+        avx2::vertical<2>(kv_rows, W, near_v, vert, x);
+        break;
+      case 13:
+        avx2::vertical<3>(kv_rows, W, near_v, vert, x);
+        break;
+      default:
+        break;
     }
 #endif
     for (; x < W; ++x) {
@@ -687,20 +582,41 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
 
     // horizontal sums, solve and outputs; ill-conditioned windows go to the exact path
     const float* table[6];
-    for (int j = 0; j < 6; ++j) table[j] = table_.ptr<float>(j * H + y);
+    for (int j = 0; j < 6; ++j)
+      table[j] = table_.ptr<float>(j * table_rows_.size() + y - table_rows_.start);
     int n_slow = 0;
     x = 0;
-#ifdef RLD_FALS_AVX2
-    if (avx2) {
+#ifdef RLD_FALS_SIMD
+    {
       const float* const* v = vert;
-      const float *nc = ncols_.data(), *ax = ax_.data();
+      const float *nc = ncols_.data(), *ax = ax_.data(), *z = kv_rows[h] + 3 * W;
       int* sl = slow_.data();
       float* g = grow;
       const uint64_t* nh = near_h;
-      const float* z = kv_rows[h] + 3 * W;
-      if (h == 1) horizontalAvx2<1>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x);
-      if (h == 2) horizontalAvx2<2>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x);
-      if (h == 3) horizontalAvx2<3>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x);
+#define RLD_H(ns, H) ns::horizontal<H>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x)
+      switch (simdLevel() * 10 + h) {
+        case 21:
+          RLD_H(avx512, 1);
+          break;
+        case 22:
+          RLD_H(avx512, 2);
+          break;
+        case 23:
+          RLD_H(avx512, 3);
+          break;
+        case 11:
+          RLD_H(avx2, 1);
+          break;
+        case 12:
+          RLD_H(avx2, 2);
+          break;
+        case 13:
+          RLD_H(avx2, 3);
+          break;
+        default:
+          break;
+      }
+#undef RLD_H
     }
 #endif
     for (; x < W; ++x) {
