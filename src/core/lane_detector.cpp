@@ -190,11 +190,11 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   result.timings.points = msSince(t);
 
   // 3. normals, and G (Eq. 2) in the same pass: the normals themselves are kept only for the
-  // road gate (normals_ stays allocated, so the gate loop's row pointers are always valid)
+  // road gate (and allocated for the plane gate, whose loop walks their rows)
   if (p.use_depth) {
     fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
     fals_.computeGeometric(points_, roi_rows, p, geometric_, p.road_gate ? &normals_ : nullptr);
-    normals_.create(proc_size_, CV_32FC3);
+    if (p.plane_gate > 0.0) normals_.create(proc_size_, CV_32FC3);
   }
   result.timings.normals = msSince(t);
 
