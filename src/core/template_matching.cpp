@@ -16,7 +16,7 @@
 // Plain loops are compiled for AVX2 and for the baseline, chosen at load time; integer sums are
 // exact, so both clones give the same bits.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define RLD_CLONES __attribute__((target_clones("avx2", "default")))
+#define RLD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
 #define RLD_CLONES
 #endif
@@ -211,8 +211,7 @@ __attribute__((target("avx2"))) uint32_t updateRowAvx2(const RowUpdate& u) {
 }
 
 uint32_t updateRow(const RowUpdate& u) {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2 ? updateRowAvx2(u) : updateRowSse2(u);
+  return simdLevel() >= 1 ? updateRowAvx2(u) : updateRowSse2(u);
 }
 
 // Four pixels with SSE2 (x86-64 baseline).
@@ -266,14 +265,14 @@ void scoreRowSse2(const ScoreRow& r, int n) {
 
 // Eight pixels with AVX2, the same values lane for lane (N is computed in exact 32-bit
 // integers, which needs area * acc < 2^31: templates up to 45 px).
-__attribute__((target("avx2"))) void scoreRowAvx2(const ScoreRow& r, int n) {
+__attribute__((target("avx2"))) void scoreRowAvx2(const ScoreRow& r, int n, int from = 0) {
   const __m256d inv_area = _mm256_set1_pd(r.inv_area), eps = _mm256_set1_pd(10 * FLT_EPSILON),
                 half = _mm256_set1_pd(0.5), one = _mm256_set1_pd(1.0);
   const __m256i area = _mm256_set1_epi32(r.area);
   const __m256i count[2] = {_mm256_set1_epi32(r.count[0]), _mm256_set1_epi32(r.count[1])};
   const __m256 kk[2] = {_mm256_set1_ps(r.k[0]), _mm256_set1_ps(r.k[1])};
   const __m256 f_one = _mm256_set1_ps(1.f), f_zero = _mm256_setzero_ps();
-  int x = 0;
+  int x = from;
   for (; x + 8 <= n; x += 8) {
     const __m256i S =
         _mm256_sub_epi32(_mm256_sub_epi32(load8(r.bottom + r.s + x), load8(r.bottom + x)),
@@ -310,9 +309,73 @@ __attribute__((target("avx2"))) void scoreRowAvx2(const ScoreRow& r, int n) {
   for (; x < n; ++x) scorePixel(r, x);
 }
 
+// GCC 12 warns about its own _mm512_undefined_*() inside avx512fintrin.h (PR105593).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#define RLD_AVX512 __attribute__((target("avx512f"), always_inline)) inline
+RLD_AVX512 __m512i ld(const uint32_t* p) {
+  return _mm512_loadu_si512(p);
+}
+RLD_AVX512 __m512d toDouble(__m256i v) {
+  return _mm512_maskz_cvtepi32_pd(0xFF, v);
+}
+RLD_AVX512 __m512 join(__m256 lo, __m256 hi) {
+  return _mm512_castpd_ps(_mm512_mask_insertf64x4(
+      _mm512_castps_pd(_mm512_castps256_ps512(lo)), 0xFF,
+      _mm512_castps_pd(_mm512_castps256_ps512(lo)), _mm256_castps_pd(hi), 1));
+}
+
+// Sixteen pixels with AVX-512, the same values lane for lane (no FMA contraction).
+__attribute__((target("avx512f"), optimize("fp-contract=off"))) void scoreRowAvx512(
+    const ScoreRow& r, int n) {
+  const __m512d inv_area = _mm512_set1_pd(r.inv_area), eps = _mm512_set1_pd(10 * FLT_EPSILON),
+                half = _mm512_set1_pd(0.5), one = _mm512_set1_pd(1.0);
+  const __m512i area = _mm512_set1_epi32(r.area);
+  const __m512i count[2] = {_mm512_set1_epi32(r.count[0]), _mm512_set1_epi32(r.count[1])};
+  const __m512 kk[2] = {_mm512_set1_ps(r.k[0]), _mm512_set1_ps(r.k[1])};
+  const __m512 f_one = _mm512_set1_ps(1.f), f_zero = _mm512_setzero_ps();
+  int x = 0;
+  for (; x + 16 <= n; x += 16) {
+    const __m512i S = _mm512_sub_epi32(_mm512_sub_epi32(ld(r.bottom + r.s + x), ld(r.bottom + x)),
+                                       _mm512_sub_epi32(ld(r.top + r.s + x), ld(r.top + x)));
+    if (_mm512_test_epi32_mask(S, S) == 0) {
+      _mm512_storeu_ps(r.out[0] + x, f_zero);  // windows of zeros are flat
+      _mm512_storeu_ps(r.out[1] + x, f_zero);
+      continue;
+    }
+    const __m512i Q =
+        _mm512_sub_epi32(_mm512_sub_epi32(ld(r.bottom_sq + r.s + x), ld(r.bottom_sq + x)),
+                         _mm512_sub_epi32(ld(r.top_sq + r.s + x), ld(r.top_sq + x)));
+    __m256 d_f[2], keep_f[2];
+    for (int h = 0; h < 2; ++h) {
+      const __m256i Sh = h ? _mm512_maskz_extracti64x4_epi64(0xF, S, 1) : _mm512_castsi512_si256(S);
+      const __m256i Qh = h ? _mm512_maskz_extracti64x4_epi64(0xF, Q, 1) : _mm512_castsi512_si256(Q);
+      const __m512d sum = toDouble(Sh), sum2 = toDouble(Qh);
+      const __m512d diff2 = _mm512_sub_pd(sum2, _mm512_mul_pd(_mm512_mul_pd(sum, sum), inv_area));
+      const __mmask8 keep =
+          _mm512_cmp_pd_mask(diff2, _mm512_min_pd(half, _mm512_mul_pd(eps, sum2)), _CMP_GT_OQ);
+      d_f[h] = _mm512_maskz_cvtpd_ps(0xFF, _mm512_mask_blend_pd(keep, one, diff2));
+      keep_f[h] = _mm512_maskz_cvtpd_ps(0xFF, _mm512_maskz_mov_pd(keep, one));
+    }
+    const __m512 inv_sd =
+        _mm512_mul_ps(_mm512_div_ps(f_one, _mm512_maskz_sqrt_ps(0xFFFF, join(d_f[0], d_f[1]))),
+                      join(keep_f[0], keep_f[1]));
+    for (int k = 0; k < 2; ++k) {
+      const __m512i N = _mm512_sub_epi32(_mm512_mullo_epi32(area, ld(r.acc[k] + x)),
+                                         _mm512_mullo_epi32(count[k], S));
+      const __m512 v = _mm512_mul_ps(_mm512_cvtepi32_ps(N), _mm512_mul_ps(inv_sd, kk[k]));
+      _mm512_storeu_ps(r.out[k] + x, _mm512_max_ps(_mm512_min_ps(v, f_one), f_zero));
+    }
+  }
+  scoreRowAvx2(r, n, x);
+}
+#pragma GCC diagnostic pop
+
 void scoreRow(const ScoreRow& r, int n) {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2 && r.s <= 45)
+  const int level = simdLevel();
+  if (level == 2 && r.s <= 45)
+    scoreRowAvx512(r, n);
+  else if (level == 1 && r.s <= 45)
     scoreRowAvx2(r, n);
   else
     scoreRowSse2(r, n);
@@ -427,7 +490,22 @@ void NccMatcher::produceRow(const cv::Mat& image, const cv::Rect& region, int y)
 
 namespace {
 std::atomic<bool> g_reference_stages{false};
+std::atomic<int> g_max_simd_level{2};
 }  // namespace
+
+void setMaxSimdLevel(int level) {
+  g_max_simd_level = level;
+}
+
+int simdLevel() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const int cpu =
+      __builtin_cpu_supports("avx512f") ? 2 : (__builtin_cpu_supports("avx2") ? 1 : 0);
+#else
+  static const int cpu = 0;
+#endif
+  return std::min(cpu, g_max_simd_level.load(std::memory_order_relaxed));
+}
 
 void setReferenceStages(bool enabled) {
   g_reference_stages = enabled;
