@@ -19,7 +19,8 @@ namespace rgbd_lane_detector {
  * @param[in] format channel order of @p colour.
  * @param[in] tau_c threshold on 0-255 grey.
  * @param[in] rows rows to convert; the other rows of @p out are left untouched.
- * @param[out] out CV_8UC1 of the colour size (allocated only when its size or type differs).
+ * @param[out] out CV_8UC1 of the colour size (allocated, and zeroed, only when its size or type
+ * differs).
  */
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out);

@@ -10,6 +10,8 @@
 #define RLD_AVX2 __attribute__((target("avx2")))
 #endif
 
+#include "rgbd_lane_detector/template_matching.h"  // simdLevel()
+
 namespace rgbd_lane_detector {
 namespace {
 
@@ -75,7 +77,7 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
   const double inv_fy = 1.0 / K.fy;
   const int w = points.cols;
 #ifdef RLD_POINTS_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const bool avx2 = simdLevel() >= 1;
 #endif
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;

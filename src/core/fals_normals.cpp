@@ -194,6 +194,9 @@ struct V {
 }  // namespace avx2
 #pragma GCC pop_options
 
+// GCC 12 warns about its own _mm512_undefined_*() inside avx512fintrin.h (PR105593).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC push_options
 #pragma GCC target("avx512f")
 #pragma GCC optimize("fp-contract=off")
@@ -210,7 +213,7 @@ struct V {
   static T sub(T a, T b) { return _mm512_sub_ps(a, b); }
   static T mul(T a, T b) { return _mm512_mul_ps(a, b); }
   static T div(T a, T b) { return _mm512_div_ps(a, b); }
-  static T sqrt(T a) { return _mm512_maskz_sqrt_ps(0xFFFF, a); }  // (no undefined-value warning)
+  static T sqrt(T a) { return _mm512_sqrt_ps(a); }
   static T abs(T a) { return _mm512_abs_ps(a); }
   static M gt(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
   static M ge(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
@@ -235,13 +238,8 @@ struct V {
 #include "fals_kernels.inc"
 }  // namespace avx512
 #pragma GCC pop_options
+#pragma GCC diagnostic pop
 
-/// Widest vector kernels the CPU runs: 2 AVX-512, 1 AVX2, 0 none.
-int simdLevel() {
-  static const int level =
-      __builtin_cpu_supports("avx512f") ? 2 : (__builtin_cpu_supports("avx2") ? 1 : 0);
-  return level;
-}
 #endif
 
 }  // namespace

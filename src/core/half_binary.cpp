@@ -9,6 +9,8 @@
 #define RLD_AVX2 __attribute__((target("avx2")))
 #endif
 
+#include "rgbd_lane_detector/template_matching.h"  // simdLevel()
+
 namespace rgbd_lane_detector {
 namespace {
 
@@ -121,14 +123,17 @@ RLD_AVX2 int convert1Avx2(const uint8_t* src, uint8_t* dst, int width, int tau_c
 
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out) {
-  out.create(colour.size(), CV_8UC1);
+  if (out.size() != colour.size() || out.type() != CV_8UC1) {
+    out.create(colour.size(), CV_8UC1);
+    out = cv::Scalar(0);  // rows never converted read as 0 (once, on allocation)
+  }
   const int r0 = std::max(rows.start, 0);
   const int r1 = std::min(rows.end, colour.rows);
   const int w = colour.cols;
   // tau_c <= 0 keeps everything; above 255 nothing: the vector code compares bytes
   const int tau = std::min(std::max(tau_c, 0), 256);
 #ifdef RLD_HB_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const bool avx2 = simdLevel() >= 1;
   const bool vec = avx2 && tau <= 255;
 #endif
   for (int y = r0; y < r1; ++y) {

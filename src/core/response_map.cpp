@@ -7,6 +7,8 @@
 #define RLD_RM_AVX2 1
 #endif
 
+#include "rgbd_lane_detector/template_matching.h"  // simdLevel()
+
 namespace rgbd_lane_detector {
 
 void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p,
@@ -74,7 +76,7 @@ void maxLocation(const cv::Mat& R, double& max_value, cv::Point& max_location) {
   max_value = 0.0;
   if (R.empty()) return;
 #ifdef RLD_RM_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const bool avx2 = simdLevel() >= 1;
 #endif
   // the maximum, then its first occurrence (cv::minMaxLoc keeps the first on ties)
   float m = R.at<float>(0, 0);
@@ -116,7 +118,7 @@ void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Ran
   }
   const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, M.rows);
 #ifdef RLD_RM_AVX2
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const bool avx2 = simdLevel() >= 1;
 #endif
   for (int y = r0; y < r1; ++y) {
     const float* m = M.ptr<float>(y);
