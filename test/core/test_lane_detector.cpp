@@ -1,7 +1,9 @@
 // Whole pipeline on rendered roads: both markers found, plane within 1 deg and 5 cm of truth.
 #include <cmath>
+#include <cstring>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/lane_detector.h"
 #include "rgbd_lane_detector/template_matching.h"
@@ -115,6 +117,46 @@ TEST(LaneDetector, FastStagesGiveTheReferenceResults) {
       EXPECT_EQ(a.template_angle_left, b.template_angle_left);
       EXPECT_EQ(a.template_angle_right, b.template_angle_right);
     }
+  }
+}
+
+// The fast paths dispatch on the CPU (AVX-512, AVX2, the SSE2 baseline and plain C++): all give
+// the same bits, so results do not depend on the machine.
+TEST(LaneDetector, EveryInstructionSetGivesTheSameBits) {
+  const int cpu = simdLevel();
+  std::vector<Result> results(cpu + 1);
+  for (int level = cpu; level >= 0; --level) {
+    setMaxSimdLevel(level);
+    LaneDetector det(Params::improved());  // the road gate also keeps the normals
+    for (int i = 0; i < 4; ++i) {
+      RoadScene scene;
+      scene.width = 333;  // odd: vector bodies and scalar tails
+      scene.height = 201;
+      scene.K = Intrinsics{140.0, 140.0, 166.0, 100.0};
+      scene.right_dashed = true;
+      scene.lateral_offset = 0.2 * i;
+      cv::Mat bgr, depth;
+      const Frame f = makeFrame(scene, bgr, depth);
+      cv::circle(depth, cv::Point(60 + 40 * i, 150), 5, cv::Scalar(0), -1);  // missing depth
+      ASSERT_EQ(det.detect(f, results[level]), Status::kOk);
+    }
+  }
+  setMaxSimdLevel(2);
+  auto bits = [](const cv::Mat& a, const cv::Mat& b) {
+    return a.size() == b.size() && a.type() == b.type() &&
+           std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+  };
+  for (int level = 0; level < cpu; ++level) {
+    SCOPED_TRACE(testing::Message() << "level " << level << " against " << cpu);
+    const Result& a = results[level];
+    const Result& b = results[cpu];
+    EXPECT_TRUE(bits(a.half_binary, b.half_binary));
+    EXPECT_TRUE(bits(a.geometric, b.geometric));
+    EXPECT_TRUE(bits(a.response_left, b.response_left));
+    EXPECT_TRUE(bits(a.response_right, b.response_right));
+    EXPECT_EQ(a.left.pixels, b.left.pixels);
+    EXPECT_EQ(a.right.pixels, b.right.pixels);
+    EXPECT_EQ(a.plane.normal, b.plane.normal);
   }
 }
 
