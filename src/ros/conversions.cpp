@@ -5,9 +5,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
+#include <boost/any.hpp>
+#include <dynamic_reconfigure/config_tools.h>
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
+
+#include "rgbd_lane_detector/params_io.h"
 
 namespace rgbd_lane_detector {
 namespace conversions {
@@ -202,94 +207,57 @@ const char* frameFromMsgs(const sensor_msgs::Image& colour, const sensor_msgs::I
 // ---------------------------------------------------------------------------
 // Parameters
 
-void configToParams(const LaneDetectorConfig& c, Params& p) {
-  p.tau_c = c.tau_c;
-  p.processing_scale = c.processing_scale;
-  p.roi_top = c.roi_top;
-  p.roi_bottom = c.roi_bottom;
-  p.min_depth = c.min_depth;
-  p.max_depth = c.max_depth;
-  p.normal_window = c.normal_window;
-
-  p.template_size = c.template_size;
-  p.template_line_width = c.template_line_width;
-  p.template_angle_deg = c.template_angle_deg;
-  p.use_depth = c.use_depth;
-  p.depth_threshold = c.depth_threshold;
-  p.alpha = c.alpha;
-  p.beta = c.beta;
-  p.depth_term = c.depth_term == static_cast<int>(DepthTerm::kFarHigh) ? DepthTerm::kFarHigh
-                                                                         : DepthTerm::kNearHigh;
-  p.tau_g = c.tau_g;
-
-  p.pca_threshold = c.pca_threshold;
-  p.adapt_templates = c.adapt_templates;
-  p.jump_step = c.jump_step;
-  p.trace_threshold = c.trace_threshold;
-  p.max_trace_steps = c.max_trace_steps;
-  p.min_marker_points = c.min_marker_points;
-
-  p.plane_fit = c.plane_fit == static_cast<int>(PlaneFit::kLeastSquares) ? PlaneFit::kLeastSquares
-                                                                          : PlaneFit::kThreePoint;
-  p.plane_max_tilt_deg = c.plane_max_tilt_deg;
-  p.plane_distance_min = c.plane_distance_min;
-  p.plane_distance_max = c.plane_distance_max;
-
-  p.gap_steps = c.gap_steps;
-  p.ego_lane_seeds = c.ego_lane_seeds;
-  p.road_gate = c.road_gate;
-  p.road_gate_cos = c.road_gate_cos;
-  p.plane_gate = c.plane_gate;
-  p.fill_depth_holes = c.fill_depth_holes;
-  p.plane_smoothing = c.plane_smoothing;
-  p.snap_to_plane = c.snap_to_plane;
-  p.lane_width_min = c.lane_width_min;
-  p.lane_width_max = c.lane_width_max;
-  p.report_only_complete = c.report_only_complete;
+// By name: the cfg parameters are named after the Params fields (params_io.h keeps the table
+// that the core's tests check against the .cfg), so a new parameter needs no code here.
+int configToParams(const LaneDetectorConfig& config, Params& params) {
+  int unmapped = 0;
+  for (const auto& description : LaneDetectorConfig::__getParamDescriptions__()) {
+    boost::any value;
+    description->getValue(config, value);
+    double v;
+    if (description->type == "bool")
+      v = boost::any_cast<bool>(value) ? 1.0 : 0.0;
+    else if (description->type == "int")
+      v = boost::any_cast<int>(value);  // enums: DepthTerm / PlaneFit values
+    else if (description->type == "double")
+      v = boost::any_cast<double>(value);
+    else
+      v = std::numeric_limits<double>::quiet_NaN();
+    if (!std::isfinite(v) || !setParam(params, description->name, v)) ++unmapped;
+  }
+  return unmapped;
 }
 
-void paramsToConfig(const Params& p, LaneDetectorConfig& c) {
-  c.tau_c = p.tau_c;
-  c.processing_scale = p.processing_scale;
-  c.roi_top = p.roi_top;
-  c.roi_bottom = p.roi_bottom;
-  c.min_depth = p.min_depth;
-  c.max_depth = p.max_depth;
-  c.normal_window = p.normal_window;
-
-  c.template_size = p.template_size;
-  c.template_line_width = p.template_line_width;
-  c.template_angle_deg = p.template_angle_deg;
-  c.use_depth = p.use_depth;
-  c.depth_threshold = p.depth_threshold;
-  c.alpha = p.alpha;
-  c.beta = p.beta;
-  c.depth_term = static_cast<int>(p.depth_term);
-  c.tau_g = p.tau_g;
-
-  c.pca_threshold = p.pca_threshold;
-  c.adapt_templates = p.adapt_templates;
-  c.jump_step = p.jump_step;
-  c.trace_threshold = p.trace_threshold;
-  c.max_trace_steps = p.max_trace_steps;
-  c.min_marker_points = p.min_marker_points;
-
-  c.plane_fit = static_cast<int>(p.plane_fit);
-  c.plane_max_tilt_deg = p.plane_max_tilt_deg;
-  c.plane_distance_min = p.plane_distance_min;
-  c.plane_distance_max = p.plane_distance_max;
-
-  c.gap_steps = p.gap_steps;
-  c.ego_lane_seeds = p.ego_lane_seeds;
-  c.road_gate = p.road_gate;
-  c.road_gate_cos = p.road_gate_cos;
-  c.plane_gate = p.plane_gate;
-  c.fill_depth_holes = p.fill_depth_holes;
-  c.plane_smoothing = p.plane_smoothing;
-  c.snap_to_plane = p.snap_to_plane;
-  c.lane_width_min = p.lane_width_min;
-  c.lane_width_max = p.lane_width_max;
-  c.report_only_complete = p.report_only_complete;
+int paramsToConfig(const Params& params, LaneDetectorConfig& config) {
+  int unmapped = 0;
+  dynamic_reconfigure::Config msg;
+  for (const auto& description : LaneDetectorConfig::__getParamDescriptions__()) {
+    double v;
+    if (!getParam(params, description->name, v)) {
+      ++unmapped;
+      continue;
+    }
+    if (description->type == "bool") {
+      dynamic_reconfigure::BoolParameter b;
+      b.name = description->name;
+      b.value = v != 0.0;
+      msg.bools.push_back(b);
+    } else if (description->type == "int") {
+      dynamic_reconfigure::IntParameter i;
+      i.name = description->name;
+      i.value = static_cast<int>(std::lround(v));
+      msg.ints.push_back(i);
+    } else if (description->type == "double") {
+      dynamic_reconfigure::DoubleParameter d;
+      d.name = description->name;
+      d.value = v;
+      msg.doubles.push_back(d);
+    } else {
+      ++unmapped;
+    }
+  }
+  config.__fromMessage__(msg);
+  return unmapped;
 }
 
 // ---------------------------------------------------------------------------

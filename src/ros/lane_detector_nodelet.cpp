@@ -166,7 +166,9 @@ void LaneDetectorNodelet::connectCb() {
 void LaneDetectorNodelet::configCallback(LaneDetectorConfig& config, uint32_t /*level*/) {
   std::lock_guard<std::mutex> lock(params_mutex_);
   Params p = params_;  // keeps the non-reconfigurable fields (up axis)
-  conv::configToParams(config, p);
+  if (conv::configToParams(config, p) != 0)
+    NODELET_ERROR_ONCE("Some dynamic_reconfigure parameters have no core Params field (cfg and "
+                       "params_io.h disagree): they are ignored");
   p = sanitize(p);
   conv::paramsToConfig(p, config);  // show the repaired values (odd windows...) in the GUI
   params_ = p;

@@ -90,14 +90,17 @@ const char* frameFromMsgs(const sensor_msgs::Image& colour, const sensor_msgs::I
 // Parameters
 
 /**
- * @brief Copy every dynamic_reconfigure field into core Params (enums to DepthTerm /
- * PlaneFit). Fields that are not reconfigurable (the up axis) are left unchanged.
- * Not sanitised: pass the result through rgbd_lane_detector::sanitize().
+ * @brief Copy every dynamic_reconfigure field into core Params, by name (the cfg names are the
+ * Params field names, see params_io.h; enums become DepthTerm / PlaneFit). Fields that are not
+ * reconfigurable (the up axis) are left unchanged. Not sanitised: pass the result through
+ * rgbd_lane_detector::sanitize().
+ * @return the number of cfg parameters without a Params field (0 unless the two disagree).
  */
-void configToParams(const LaneDetectorConfig& config, Params& params);
+int configToParams(const LaneDetectorConfig& config, Params& params);
 
 /// The inverse of configToParams(): every reconfigurable field of @p params into @p config.
-void paramsToConfig(const Params& params, LaneDetectorConfig& config);
+/// @return the number of cfg parameters without a Params field.
+int paramsToConfig(const Params& params, LaneDetectorConfig& config);
 
 // ---------------------------------------------------------------------------
 // Geometry
