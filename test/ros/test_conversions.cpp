@@ -183,9 +183,9 @@ TEST(Conversions, ConfigParamsRoundTripCoversEveryField) {
                                                                                    : min_msg.doubles[i]);
   ASSERT_TRUE(config.__fromMessage__(changed));
   Params p;
-  conv::configToParams(config, p);
+  EXPECT_EQ(conv::configToParams(config, p), 0) << "cfg parameters without a Params field";
   LaneDetectorConfig back = def;
-  conv::paramsToConfig(p, back);
+  EXPECT_EQ(conv::paramsToConfig(p, back), 0);
   dynamic_reconfigure::Config a, b;
   config.__toMessage__(a);
   back.__toMessage__(b);
