@@ -31,12 +31,14 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
-        "usage: %s detect|halfbinary|points|normals|normals_only|matching|response WIDTH N\n",
+        "usage: %s detect|halfbinary|points|normals|normals_only|matching|response WIDTH N "
+        "[SIMD_LEVEL]\n",
         argv[0]);
     return 2;
   }
   const std::string stage = argv[1];
   const int width = std::atoi(argv[2]), n = std::atoi(argv[3]);
+  if (argc > 4) setMaxSimdLevel(std::atoi(argv[4]));  // 0 baseline, 1 AVX2, 2 AVX-512
   cv::setNumThreads(1);
   std::vector<bench::RoadFrame> frames(4);
   for (int i = 0; i < 4; ++i) bench::renderRoadFrame(width, width * 380 / 640, i, frames[i]);

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/lane_detector.h"
@@ -113,22 +114,27 @@ Frame frameOf(const Drive& d, int i) {
 }
 
 TEST(Allocations, SteadyStateDetectAllocatesNothing) {
-  cv::setNumThreads(1);
   for (const cv::Size size : {cv::Size(640, 380), cv::Size(1280, 760)}) {
     const Drive drive = makeDrive(size.width, size.height);
     for (const Params& params : {Params::paper(), Params::improved()}) {
-      SCOPED_TRACE(testing::Message() << size << (params.road_gate ? " improved" : " paper"));
-      LaneDetector det(params);
-      Result r;
-      for (int i = 0; i < 8; ++i) ASSERT_EQ(det.detect(frameOf(drive, i), r), Status::kOk);
-      g_allocations = 0;
-      g_counting = true;
-      for (int i = 0; i < 12; ++i) det.detect(frameOf(drive, i), r);
-      g_counting = false;
-      EXPECT_EQ(g_allocations.load(), 0) << "first allocation: " << g_first_size.load() << " bytes";
-      EXPECT_TRUE(r.left.found || r.right.found);  // the frames exercise the whole pipeline
+      for (int threads : {1, 2}) {  // 2: normals next to matching on the helper thread
+        cv::setNumThreads(threads);
+        SCOPED_TRACE(testing::Message() << size << (params.road_gate ? " improved" : " paper")
+                                        << ", " << threads << " thread(s)");
+        LaneDetector det(params);
+        Result r;
+        for (int i = 0; i < 8; ++i) ASSERT_EQ(det.detect(frameOf(drive, i), r), Status::kOk);
+        g_allocations = 0;
+        g_counting = true;
+        for (int i = 0; i < 12; ++i) det.detect(frameOf(drive, i), r);
+        g_counting = false;
+        EXPECT_EQ(g_allocations.load(), 0)
+            << "first allocation: " << g_first_size.load() << " bytes";
+        EXPECT_TRUE(r.left.found || r.right.found);  // the frames exercise the whole pipeline
+      }
     }
   }
+  cv::setNumThreads(1);
 }
 
 TEST(Allocations, TheCounterSeesEveryAllocator) {
