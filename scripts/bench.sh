@@ -5,6 +5,8 @@
 #   BENCH_BIN          bench_core to run (default: found on CMAKE_PREFIX_PATH)
 #   BENCH_REPETITIONS  repetitions whose medians are reported (default 5)
 #   BENCH_FILTER       Google Benchmark filter (default: everything)
+#   BENCH_NODELET      0 skips the nodelet measurement (bench/measure_nodelet.sh, needs the tools
+#                      and a ROS install; a few minutes)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 export PATH=/usr/bin:/bin:$PATH
@@ -41,7 +43,17 @@ if [ -x "$PROFILE" ]; then
   RSS_KB=$("$PROFILE" detect 1280 50 | sed -n 's/^peak RSS \([0-9]*\) kB$/\1/p')
 fi
 
-/usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" \
+# What the nodelet adds over detect(), and its peak RSS (bench/measure_nodelet.sh).
+NODELET=()
+if [ "${BENCH_NODELET:-1}" != 0 ] && command -v roscore > /dev/null; then
+  for size in "640 380 150" "1280 760 60"; do
+    # shellcheck disable=SC2086
+    line=$("$ROOT/bench/measure_nodelet.sh" $size 2> "$OUT/nodelet.err" | tail -n 1) || line=""
+    [ -n "$line" ] && NODELET+=(--nodelet "$line") && echo "bench: nodelet $line"
+  done
+fi
+
+/usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" "${NODELET[@]}" \
   --rss-kb "${RSS_KB:-0}" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
   --out "$ROOT/docs/PERFORMANCE.md" --plot "$ROOT/docs/performance.png"
 echo "bench: wrote docs/PERFORMANCE.md and docs/performance.png"

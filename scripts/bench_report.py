@@ -107,6 +107,8 @@ def main():
     ap.add_argument("--plot", required=True)
     ap.add_argument("--rss-kb", type=int, default=0)
     ap.add_argument("--commit", default="?")
+    ap.add_argument("--nodelet", action="append", default=[],
+                    help="a result line of bench/measure_nodelet.sh")
     a = ap.parse_args()
     ctx, runs = load(a.json)
     if not runs:
@@ -235,6 +237,13 @@ def main():
                  f"including its four generated frames): **{a.rss_kb / 1024:.0f} MB**. The "
                  "largest buffers are FALS's per-pixel adj(Q) table (24 bytes per pixel, "
                  "23 MB at 1280x760) and the organised points (12 bytes per pixel).")
+    if a.nodelet:
+        L.append("- The nodelet (bench/measure_nodelet.sh: a generated sequence played into "
+                 "LaneDetectorNodelet, paper mode, lane_plane and lane_markings subscribed; its own "
+                 "diagnostics give detect() and the callback's time around it, the manager's VmHWM "
+                 "its peak RSS; wall times, OpenCV's default threads):")
+        for line in a.nodelet:
+            L.append(f"  - {line}")
     L.append("")
 
     L.append("## How the core gets there")
