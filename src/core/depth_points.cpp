@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <type_traits>
+#include <vector>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -67,6 +68,68 @@ RLD_AVX2 void rowAvx2(const T* src, int w, const DepthDecoder& dec, double cx, d
   }
   done = x;
 }
+
+// 16-bit depth, eight pixels per step: the decoder's range test as an integer interval of raw
+// values [lo, hi] (found with its own double expression), the decode in double rounded once, and
+// x from a table of float((u - cx) / fx).
+RLD_AVX2 void rowAvx2U16(const uint16_t* src, int w, double scale, uint16_t lo, uint16_t hi,
+                         const float* ax, float ry, float* dst, int& done) {
+  const __m128i vlo = _mm_set1_epi16(static_cast<short>(lo)),
+                vhi = _mm_set1_epi16(static_cast<short>(hi));
+  const __m256d vscale = _mm256_set1_pd(scale);
+  const __m256 vry = _mm256_set1_ps(ry),
+               nan = _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  int x = 0;
+  for (; x + 8 <= w; x += 8) {
+    const __m128i raw = _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + x));
+    const __m128i in = _mm_cmpeq_epi16(raw, _mm_min_epu16(_mm_max_epu16(raw, vlo), vhi));
+    const __m256 keep = _mm256_castsi256_ps(_mm256_cvtepi16_epi32(in));
+    const __m256i r32 = _mm256_cvtepu16_epi32(raw);
+    const __m128 d0 =
+        _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(r32)), vscale));
+    const __m128 d1 = _mm256_cvtpd_ps(
+        _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(r32, 1)), vscale));
+    const __m256 d = _mm256_set_m128(d1, d0);
+    const __m256 X = _mm256_blendv_ps(nan, _mm256_mul_ps(_mm256_loadu_ps(ax + x), d), keep);
+    const __m256 Y = _mm256_blendv_ps(nan, _mm256_mul_ps(vry, d), keep);
+    const __m256 Z = _mm256_blendv_ps(nan, d, keep);
+    store4(dst + 3 * x, _mm256_castps256_ps128(X), _mm256_castps256_ps128(Y),
+           _mm256_castps256_ps128(Z));
+    store4(dst + 3 * x + 12, _mm256_extractf128_ps(X, 1), _mm256_extractf128_ps(Y, 1),
+           _mm256_extractf128_ps(Z, 1));
+  }
+  done = x;
+}
+
+// Raw values r with d = r * scale inside [min_depth, max_depth] and r != 0: an interval, since
+// d grows with r. Found with the decoder's own expression; empty when lo > hi.
+void validRaw(const DepthDecoder& dec, uint16_t& lo, uint16_t& hi) {
+  auto ok_lo = [&](int r) { return r * dec.scale >= dec.min_depth; };
+  auto ok_hi = [&](int r) { return r * dec.scale <= dec.max_depth; };
+  int a = 1, b = 65536;  // first r >= 1 with ok_lo (65536: none)
+  while (a < b) {
+    const int m = (a + b) / 2;
+    if (ok_lo(m))
+      b = m;
+    else
+      a = m + 1;
+  }
+  int c = 0, e = 65535;  // last r <= 65535 with ok_hi (0: none)
+  while (c < e) {
+    const int m = (c + e + 1) / 2;
+    if (ok_hi(m))
+      c = m;
+    else
+      e = m - 1;
+  }
+  if (a > 65535 || c < a || !ok_hi(c)) {
+    lo = 1;  // empty: no raw value passes both
+    hi = 0;
+    return;
+  }
+  lo = static_cast<uint16_t>(a);
+  hi = static_cast<uint16_t>(c);
+}
 #endif
 
 template <typename T>
@@ -78,6 +141,16 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
   const int w = points.cols;
 #ifdef RLD_POINTS_AVX2
   const bool avx2 = simdLevel() >= 1;
+  // 16-bit rows: the valid raw interval and the x factors of the columns, once per call
+  // (the table is per thread and only grows)
+  uint16_t raw_lo = 1, raw_hi = 0;
+  thread_local std::vector<float> ax;
+  const bool u16 = std::is_same<T, uint16_t>::value && avx2 && !col_map && decode.scale > 0.0;
+  if (u16) {
+    validRaw(decode, raw_lo, raw_hi);
+    if (static_cast<int>(ax.size()) < w) ax.resize(w);
+    for (int x = 0; x < w; ++x) ax[x] = static_cast<float>((x - K.cx) * inv_fx);
+  }
 #endif
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;
@@ -86,7 +159,11 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
     int x = 0;
 #ifdef RLD_POINTS_AVX2
-    if (avx2 && !col_map) rowAvx2<T>(src, w, decode, K.cx, inv_fx, ry, dst, x);
+    if (u16 && raw_lo <= raw_hi)
+      rowAvx2U16(reinterpret_cast<const uint16_t*>(src), w, decode.scale, raw_lo, raw_hi, ax.data(),
+                 ry, dst, x);
+    else if (avx2 && !col_map)
+      rowAvx2<T>(src, w, decode, K.cx, inv_fx, ry, dst, x);
 #endif
     for (; x < w; ++x) {
       const int sx = col_map ? col_map[x] : x;
