@@ -127,6 +127,7 @@ fi
     [ "$sensor" != clean ] && name="${scenario}_${sensor}"
     echo "- \`$name\`: ![$name](images/$name.jpg) [per-frame scores](images/scores_$name.png)"
   done
+  [ -f "$IMAGES/kitti.jpg" ] && echo "- KITTI 000001_10, paper | improved: ![kitti](images/kitti.jpg)"
   for f in "$IMAGES"/kitti_*.jpg; do
     [ -f "$f" ] && echo "- KITTI $(basename "$f" .jpg | sed 's/^kitti_//') (improved): ![kitti](images/$(basename "$f"))"
   done
