@@ -77,26 +77,31 @@ def plot(runs, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colours = ["#4c72b0", "#55a868", "#c44e52", "#8172b2", "#ccb974", "#64b5cd", "#999999"]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 3.2))
+    colours = ["#4c72b0", "#55a868", "#c44e52", "#8172b2", "#ccb974", "#64b5cd"]
+    labels = ["half-binary", "points", "normals (+G)", "matching", "G/R", "seeds, PCA, tracing, plane"]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 3.4))
     for ax, (w, h) in zip(axes, SIZES):
+        # stage shares, scaled to the whole frame's CPU time (detect()'s stage clocks are wall
+        # time; the OpenCV stages were timed one by one)
         c = counters(runs, w)
         ours = [c.get(k, 0.0) for k, _ in COUNTERS[:5]]
         ours.append(sum(c.get(k, 0.0) for k, _ in COUNTERS[5:]))
         cv = [get(runs, s[2], w) or 0.0 for s in STAGES] + [0.0]
-        labels = ["half-binary", "points", "normals (+G)", "matching", "G/R", "detection"]
-        for row, values in ((1, ours), (0, cv)):
+        for row, values, total in ((1, ours, get(runs, "BM_Detect", w)),
+                                   (0, cv, get(runs, "BM_OpenCV_Pipeline", w))):
+            scale = (total or 0.0) / (sum(values) or 1.0)
             left = 0.0
             for i, v in enumerate(values):
-                ax.barh(row, v, left=left, color=colours[i], label=labels[i] if row == 1 else None)
-                left += v
-            ax.text(left, row, f"  {left:.1f} ms", va="center", fontsize=8)
+                ax.barh(row, v * scale, left=left, color=colours[i],
+                        label=labels[i] if row == 0 and w == SIZES[0][0] else None)
+                left += v * scale
+            ax.text(left, row, f"  {left:.2f} ms", va="center", fontsize=8)
         ax.set_yticks([0, 1], ["OpenCV pipeline", "detect()"])
         ax.set_xlabel("ms per frame (CPU, median), single thread")
         ax.set_title(f"{w}x{h}")
-        ax.set_xlim(0, max(sum(cv), sum(ours)) * 1.25)
-    axes[0].legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
+        ax.set_xlim(0, (get(runs, "BM_OpenCV_Pipeline", w) or 1.0) * 1.3)
+    fig.legend(loc="lower center", ncol=6, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(path, dpi=110)
 
 
@@ -141,8 +146,10 @@ def main():
         L.append(f"| {w}x{h} | {ms(d)} | {ms(o)} | {ratio(d, o)} | {ok} |")
     if any(("BM_Detect2", w) in runs for w, _ in SIZES):
         L.append("")
-        L.append("With the second core (`cv::setNumThreads(2)`, normals and G in parallel "
-                 "with matching):")
+        L.append("With the second core (`cv::setNumThreads(2)`: normals and G on a helper "
+                 "thread while the caller matches, `runPair()`). Wall time, so it only means "
+                 "something when the second core is idle; on a shared machine other jobs hold it "
+                 "and the pair can be slower than one thread:")
         L.append("")
         L.append("| size | detect() 2 threads ms (wall) | ratio to the 1-thread OpenCV pipeline |")
         L.append("| --- | ---: | ---: |")
@@ -172,7 +179,8 @@ def main():
 
     L.append("## Where detect() spends its time")
     L.append("")
-    L.append("detect()'s own stage timings (ms per frame). The paper reports 40% "
+    L.append("detect()'s own stage timings (ms per frame, wall clock inside detect(), so on a "
+             "shared machine they add up to more than its CPU time above). The paper reports 40% "
              "pre-processing (half-binary, points, normals) and 60% response map (matching, "
              "G, R) at about 50 ms per 640x380 frame.")
     L.append("")
@@ -231,12 +239,14 @@ def main():
     L.append("- Allocations: test_allocations replaces malloc/calloc/realloc/memalign/"
              "posix_memalign (what operator new and cv::fastMalloc reach) with counting "
              "wrappers: after 8 warm-up frames, 12 more detect() calls make **0** heap "
-             "allocations at 640x380 and 1280x760, in the paper and the improved mode.")
+             "allocations at 640x380 and 1280x760, in the paper and the improved mode, on one "
+             "thread and on two.")
     if a.rss_kb:
         L.append(f"- Peak RSS of a process running detect() at 1280x760 (bench/profile_core, "
-                 f"including its four generated frames): **{a.rss_kb / 1024:.0f} MB**. The "
-                 "largest buffers are FALS's per-pixel adj(Q) table (24 bytes per pixel, "
-                 "23 MB at 1280x760) and the organised points (12 bytes per pixel).")
+                 f"including its four generated frames and its own copy of every stage's "
+                 f"output): **{a.rss_kb / 1024:.0f} MB**. The detector's largest buffers are "
+                 "FALS's adj(Q) table (24 bytes per pixel of the searched rows, 14 MB at "
+                 "1280x760) and the organised points (12 bytes per pixel, 12 MB).")
     if a.nodelet:
         L.append("- The nodelet (bench/measure_nodelet.sh: a generated sequence played into "
                  "LaneDetectorNodelet, paper mode, lane_plane and lane_markings subscribed; its own "
@@ -255,8 +265,8 @@ def main():
              "of a running sum along the slope: 8 lookups per pixel at 45 degrees, 4 + 4q in "
              "general, independent of the template size. Window sums and energies come from "
              "integral images; all sums are exact integers (mod 2^32). Rows are produced in a "
-             "ring (one fused prefix-scan pass) and scored by SSE2/AVX2 kernels with OpenCV's "
-             "flat-window rule.")
+             "ring (one fused prefix-scan pass) and scored by SSE2/AVX2/AVX-512 kernels with "
+             "OpenCV's flat-window rule.")
     L.append("- **FALS** (fals_normals.cpp): M = B Q B^T, b = B s in the basis "
              "B = [w_centre, e_x/fx, e_y/fy], where Q = sum k (1,du,dv)(1,du,dv)^T is nearly "
              "diagonal (M's condition number is about 1e5). adj(Q) of whole windows is "
@@ -267,8 +277,12 @@ def main():
     L.append("- **Half-binary, points, R, seeds**: AVX2 kernels that reproduce the scalar "
              "definitions bit for bit (OpenCV's fixed-point grey, the double depth decode, "
              "cv::minMaxLoc's first maximum).")
-    L.append("- Hot loops dispatch at run time (AVX2 where the CPU has it, SSE2 x86-64 baseline "
-             "otherwise); no -march, no -ffast-math.")
+    L.append("- Hot loops dispatch at run time (AVX-512 or AVX2 where the CPU has them, the SSE2 "
+             "x86-64 baseline otherwise); no -march, no -ffast-math, no FMA contraction: every "
+             "instruction set gives the same bits (test_lane_detector, "
+             "EveryInstructionSetGivesTheSameBits).")
+    L.append("- Steady state allocates nothing: buffers only grow, no cv::Mat::setTo (it allocates "
+             "a scratch buffer per call), the second core runs on one persistent helper thread.")
     L.append("")
     L.append("For decisions on this shared 2-core machine use instruction counts, which do not "
              "depend on the other jobs: `valgrind --tool=callgrind --toggle-collect='*measured*' "
