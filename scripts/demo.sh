@@ -187,7 +187,7 @@ if ! wait_graph 60 "all(any(n.endswith('lane_detector_manager') for n in subs.ge
 fi
 
 # progress: every 5 s of bag time
-rosbag play --clock --wait-for-subscribers -r "$play_factor" "$BAG" 2>&1 | tr '\r' '\n' | \
+rosbag play --clock --wait-for-subscribers -r "$play_factor" "$BAG" 2>&1 | tr '\r' '\n' | sed -u 's/\x1b\[[0-9;]*m//g' | \
   awk '/Duration:/ { split($0, a, "Duration: "); split(a[2], b, " "); if (b[1] + 0 >= next_t) { printf "   played %.1f / %.1f s\n", b[1], b[3]; next_t = b[1] + 5; fflush() } next }
        NF { print "   " $0; fflush() }'
 # let the last frames through the detector: until every input has an output, or 3 s of silence
@@ -246,11 +246,20 @@ echo "  overlay video : $(rel "$OUT/overlay.avi") ($video_frames frames of $NS/d
 echo "  overlay images: $(rel "$OUT/overlays")/ ($overlays PNGs, every 30th overlay)"
 echo "  recorded bag  : $(rel "$OUT/outputs.bag") (lane_plane, lane_markings, lane_points, lane_visualization)"
 echo "  latency CSV   : $(rel "$OUT/latency.csv"); logs: $(rel "$LOGS")"
-echo "  rviz          : roslaunch rgbd_lane_detector demo.launch bag:=$BAG"
+echo "  rviz          : roslaunch $ROOT/launch/demo.launch bag:=$BAG"
 echo "time: generate ${t_generate} s, bag ${t_convert} s, ROS graph ${t_graph} s, scoring ${t_score} s," \
      "total $(( $(date +%s) - t_start )) s"
 echo "=================================================================================="
-if [ "$report_rc" -ne 0 ]; then
-  echo "demo: FAILED: the graph produced no lane_plane output (demo_report exit $report_rc; logs: $LOGS)" >&2
+died=$(grep -hE "process has died" "$LOGS"/*.log 2>/dev/null | sed 's/\x1b\[[0-9;]*m//g' | cut -c1-160 || true)
+[ -n "$died" ] && echo "demo: processes died during the run: $died" >&2
+if [ "$report_rc" -eq 3 ]; then
+  echo "demo: FAILED: the graph produced no lane_plane output (logs: $LOGS)" >&2
+  exit 1
+elif [ "$report_rc" -eq 4 ]; then
+  echo "demo: FAILED: the graph answered fewer than 90% of the played frames (logs: $LOGS)" >&2
+  exit 1
+elif [ "$report_rc" -ne 0 ]; then
+  echo "demo: FAILED: demo_report exit $report_rc (logs: $LOGS)" >&2
   exit 1
 fi
+echo "demo: ok"
