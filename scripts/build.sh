@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Create the catkin workspace (repository symlinked into src) and build it with catkin_make.
+# Create the catkin workspace (the repository linked into its src, see make_workspace.sh) and
+# build it with catkin_make.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WS=$(realpath -m "${1:-$ROOT/build/ws}")
 shift || true
 export PATH=/usr/bin:/bin:$PATH
-mkdir -p "$WS/src"
-[ -e "$WS/src/rgbd_lane_detector" ] || ln -s "$ROOT" "$WS/src/rgbd_lane_detector"
+"$ROOT/scripts/make_workspace.sh" "$WS"
 LOG=$(dirname "$WS")/catkin_make.log
 cd "$WS"
 t0=$(date +%s)

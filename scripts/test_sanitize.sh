@@ -5,8 +5,7 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 WS=$ROOT/build/ws_sanitize
 export PATH=/usr/bin:/bin:$PATH
-mkdir -p "$WS/src"
-[ -e "$WS/src/rgbd_lane_detector" ] || ln -s "$ROOT" "$WS/src/rgbd_lane_detector"
+"$ROOT/scripts/make_workspace.sh" "$WS"
 FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
 cd "$WS"
 TESTS=$(sed -n '/set(CORE_TESTS/,/)/p' "$ROOT/test/CMakeLists.txt" | grep -oE 'test_[a-z_]+')
