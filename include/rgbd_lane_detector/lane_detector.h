@@ -56,7 +56,11 @@ class LaneDetector {
   void prepareGeometry(const Frame& frame);
   void resampleColour(const Frame& frame);
   void applyRoadGate(const cv::Range& rows);
-  void findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value) const;
+  void findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value);
+  /// Columns near a side's predicted marker, per row of @p area (band_lo_/band_hi_);
+  /// false: no prediction.
+  bool predictedBand(int side, const cv::Rect& area);
+  bool plausibleMarkerAngle(double angle, bool left) const;
   void buildTrace(const cv::Mat& R, const cv::Point& peak, float peak_value, double angle,
                   MarkerTrace& trace);
   /// 3D point of a processing-image pixel: its own, else the nearest valid depth in its box
@@ -108,6 +112,8 @@ class LaneDetector {
   std::vector<Eigen::Vector3f> samples_;
   const std::vector<Eigen::Vector3f> samples_none_;
   std::vector<Eigen::Vector2d> plane_coords_;
+  std::vector<int> band_lo_, band_hi_;
+  std::vector<int> row_histogram_;
 };
 
 }  // namespace rgbd_lane_detector

@@ -30,6 +30,8 @@ enum class PlaneFit : int {
 struct Params {
   // --- Pre-processing -------------------------------------------------------
   int tau_c = 100;                ///< half-binary threshold on 0-255 grey (THRESH_TOZERO)
+  bool adaptive_tau_c = false;    ///< per-row threshold: the row's median grey + tau_c_offset
+  int tau_c_offset = 30;          ///< offset of the adaptive threshold above the row median
   double processing_scale = 1.0;  ///< input is resampled (nearest) by this factor before matching
   double roi_top = 0.41;          ///< first searched row as a fraction of the height (156/380)
   double roi_bottom = 1.0;        ///< one past the last searched row, fraction of the height
@@ -67,6 +69,8 @@ struct Params {
 
   // --- Improvements over the paper (named options; all off = paper-faithful) --
   int gap_steps = 0;              ///< sliding box may cross this many empty boxes (dashed lines)
+  double marker_angle_min_deg = 0.0;   ///< seeds whose marker is flatter than this are not traced
+  double marker_angle_max_deg = 90.0;  ///< seeds whose marker is steeper than this are not traced
   bool ego_lane_seeds = false;    ///< left seed left of the principal point, right seed right of it
   bool road_gate = false;         ///< keep only matches whose normal is road-like (|n.O_y| >= road_gate_cos)
   double road_gate_cos = 0.9;     ///< cosine threshold of road_gate
@@ -81,6 +85,7 @@ struct Params {
   double track_memory = 0.7;      ///< forgetting factor per frame of the lane model
   int track_max_age = 10;         ///< frames a side survives without evidence
   double track_gate = 0.5;        ///< measurements farther than this from the model are outliers (m)
+  int track_seed_band = 0;        ///< >0: seek each seed within this many px of its predicted marker
 
   /// Paper-faithful configuration (the defaults).
   static Params paper() { return Params(); }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "rgbd_lane_detector/adaptive_threshold.h"
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/lane_plane.h"
@@ -55,6 +56,11 @@ void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row
   }
 }
 
+// Angle from the horizontal of a marker direction on the given side (deg).
+double angleFromHorizontalDeg(double angle, bool left) {
+  return (left ? M_PI - angle : angle) * 180.0 / M_PI;
+}
+
 // Keep a template angle inside the half-plane of its side, away from horizontal/vertical.
 double clampAngle(double angle, bool left) {
   const double lo = 10.0 * M_PI / 180.0, hi = 88.0 * M_PI / 180.0;
@@ -69,9 +75,11 @@ LaneDetector::LaneDetector(const Params& params) { setParams(params); }
 
 void LaneDetector::setParams(const Params& params) {
   const Params p = sanitize(params);
-  if (!sameTemplates(p, params_) || left_template_.size == 0) templates_dirty_ = true;
+  // New template geometry invalidates the adapted angles; any other change keeps the carried
+  // state (a reconfigure must not throw away the PCA adaptation or the lane model).
+  const bool new_templates = !sameTemplates(p, params_) || left_template_.size == 0;
   params_ = p;
-  if (templates_dirty_) reset();
+  if (new_templates) reset();
 }
 
 void LaneDetector::reset() {
@@ -175,7 +183,13 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   resampleColour(frame);
   const cv::Mat& colour = col_map_.empty() ? frame.colour : colour_small_;
   const cv::Range roi_rows(roi_.y, roi_.y + roi_.height);
-  halfBinary(colour, frame.format, p.tau_c, roi_rows, half_binary_);
+  if (p.adaptive_tau_c) {
+    // per-row threshold: row median + offset (fog, overpasses, shadows change the road's grey)
+    halfBinary(colour, frame.format, 0, roi_rows, half_binary_);
+    applyRowThreshold(half_binary_, roi_rows, p.tau_c_offset, row_histogram_);
+  } else {
+    halfBinary(colour, frame.format, p.tau_c, roi_rows, half_binary_);
+  }
   result.timings.preprocess = msSince(t);
 
   // 2. organised points (ROI plus the normal window's margin)
@@ -239,6 +253,10 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   result.right.angle_valid = pca_r.valid;
   result.left.angle = pca_l.valid ? clampAngle(pca_l.angle, true) : left_template_.angle;
   result.right.angle = pca_r.valid ? clampAngle(pca_r.angle, false) : right_template_.angle;
+  // A seed whose marker direction no ego-lane marker can have (e.g. the road edge line, a
+  // neighbour lane's marker) is not traced (named option, off in the paper mode).
+  if (pca_l.valid && !plausibleMarkerAngle(pca_l.angle, true)) peak_l = 0.f;
+  if (pca_r.valid && !plausibleMarkerAngle(pca_r.angle, false)) peak_r = 0.f;
   result.timings.pca = msSince(t);
 
   // 7. tracing
@@ -292,7 +310,12 @@ void LaneDetector::applyRoadGate(const cv::Range& rows) {
   }
 }
 
-void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value) const {
+bool LaneDetector::plausibleMarkerAngle(double angle, bool left) const {
+  const double deg = angleFromHorizontalDeg(angle, left);
+  return deg >= params_.marker_angle_min_deg && deg <= params_.marker_angle_max_deg;
+}
+
+void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value) {
   cv::Rect area = roi_;
   if (params_.ego_lane_seeds) {
     // the ego lane's left marker lies left of the principal point's column, the right one right
@@ -303,9 +326,68 @@ void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float&
   }
   double max_v = 0.0;
   cv::Point max_p(-1, -1);
+  if (predictedBand(left ? 0 : 1, area)) {
+    // the side's lane model predicts where the marker is: take the best match near it
+    float best = 0.f;
+    for (int y = area.y; y < area.y + area.height; ++y) {
+      const int lo = band_lo_[y], hi = band_hi_[y];
+      if (lo > hi) continue;
+      const float* r = R.ptr<float>(y);
+      for (int x = lo; x <= hi; ++x) {
+        if (r[x] > best) {
+          best = r[x];
+          max_p = cv::Point(x, y);
+        }
+      }
+    }
+    if (best > params_.trace_threshold) {
+      peak = max_p;
+      value = best;
+      return;
+    }
+  }
   maxLocation(R(area), max_v, max_p);  // cv::minMaxLoc's result, vectorised
   peak = max_p + area.tl();
   value = static_cast<float>(max_v);
+}
+
+bool LaneDetector::predictedBand(int side, const cv::Rect& area) {
+  const int band = params_.track_seed_band;
+  if (!params_.track_lanes || band <= 0 || !previous_plane_.valid || !tracker_.side(side).valid())
+    return false;
+  const PlaneFrame frame = PlaneFrame::fromPlane(previous_plane_);
+  tracker_.sample(side, frame, 1.0, samples_);
+  // per processing row, the columns within `band` of the predicted marker (lo > hi: none)
+  band_lo_.assign(proc_size_.height, 1);
+  band_hi_.assign(proc_size_.height, 0);
+  const double sx = static_cast<double>(proc_size_.width) / input_size_.width;
+  const double sy = static_cast<double>(proc_size_.height) / input_size_.height;
+  bool any = false;
+  cv::Point2d prev;
+  bool have_prev = false;
+  for (const auto& q : samples_) {
+    if (!(q.z() > 0.1f)) continue;
+    const cv::Point2d cur((proc_K_.fx * q.x() / q.z() + proc_K_.cx + 0.5) * sx - 0.5,
+                          (proc_K_.fy * q.y() / q.z() + proc_K_.cy + 0.5) * sy - 0.5);
+    if (have_prev) {
+      const int y0 = std::max(area.y, static_cast<int>(std::ceil(std::min(prev.y, cur.y))));
+      const int y1 = std::min(area.y + area.height - 1,
+                              static_cast<int>(std::floor(std::max(prev.y, cur.y))));
+      for (int y = y0; y <= y1; ++y) {
+        const double t = cur.y != prev.y ? (y - prev.y) / (cur.y - prev.y) : 0.0;
+        const double u = prev.x + t * (cur.x - prev.x);
+        const int lo = std::max(area.x, static_cast<int>(std::floor(u)) - band);
+        const int hi = std::min(area.x + area.width - 1, static_cast<int>(std::ceil(u)) + band);
+        if (lo > hi) continue;
+        band_lo_[y] = band_hi_[y] < band_lo_[y] ? lo : std::min(band_lo_[y], lo);
+        band_hi_[y] = std::max(band_hi_[y], hi);
+        any = true;
+      }
+    }
+    prev = cur;
+    have_prev = true;
+  }
+  return any;
 }
 
 void LaneDetector::buildTrace(const cv::Mat& R, const cv::Point& peak, float peak_value,
@@ -380,8 +462,7 @@ void LaneDetector::updateTemplates(const Result& result) {
   // Both sides matched above P_PCA: redraw the templates at the PCA angles for the next frame;
   // otherwise return to the default templates.
   const bool adapt = params_.adapt_templates && result.left.angle_valid &&
-                     result.right.angle_valid &&
-                     result.left.peak_score > params_.pca_threshold &&
+                     result.right.angle_valid && result.left.peak_score > params_.pca_threshold &&
                      result.right.peak_score > params_.pca_threshold;
   const double nl = adapt ? result.left.angle : defaultLeftAngle(params_.template_angle_deg);
   const double nr = adapt ? result.right.angle : defaultRightAngle(params_.template_angle_deg);

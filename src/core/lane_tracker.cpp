@@ -16,6 +16,10 @@ constexpr double kCurvatureRidge = 0.5;
 // An established model whose evidence is this many frames old may be replaced at once by
 // measurements that disagree with it (lane change, or a track that was wrong).
 constexpr int kStaleAge = 3;
+// Measurements nearer than this (m) get full weight.
+constexpr double kNearRange = 10.0;
+// Upper bound of the reported points per side.
+constexpr int kMaxSamples = 40;
 
 }  // namespace
 
@@ -91,9 +95,12 @@ int SideModel::update(const std::vector<Eigen::Vector2d>& m, const TrackerParams
     }
     for (const auto& q : m) {
       if (use_gate && std::fabs(q.y() - lateral(q.x())) > params.gate) continue;
+      // a pixel's lateral extent grows with distance: weight 1/f^2 beyond kNearRange
+      const double r = std::max(q.x(), kNearRange) / kNearRange;
+      const double w = 1.0 / (r * r);
       const Eigen::Vector3d phi = basis(q.x());
-      A_.noalias() += phi * phi.transpose();
-      b_.noalias() += phi * q.y();
+      A_.noalias() += w * phi * phi.transpose();
+      b_.noalias() += w * phi * q.y();
       near = std::min(near, q.x());
       far = std::max(far, q.x());
       ++accepted;
@@ -138,9 +145,17 @@ void LaneTracker::sample(int i, const PlaneFrame& frame, double step,
     near = std::min(near, other.nearest());
     far = std::max(far, other.farthest());
   }
+  near = std::max(near, 0.5);
   if (!(far >= near)) return;
-  for (double f = near; f <= far + 1e-9; f += step)
+  // Uniform in 1/f, i.e. about uniform in image rows like the traced centroids: the far range,
+  // where a pixel spans decimetres, does not dominate the reported points.
+  const int count = std::max(2, static_cast<int>(std::ceil((far - near) / step)));
+  const int n = std::min(count, kMaxSamples);
+  const double a = 1.0 / near, b = 1.0 / far;
+  for (int k = 0; k < n; ++k) {
+    const double f = 1.0 / (a + (b - a) * k / (n - 1));
     out.push_back(frame.toCamera(f, s.lateral(f)).cast<float>());
+  }
 }
 
 }  // namespace rgbd_lane_detector

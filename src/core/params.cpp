@@ -28,6 +28,11 @@ Params Params::improved() {
   p.lane_width_max = 5.5;
   p.report_only_complete = true;
   p.track_lanes = true;
+  p.track_seed_band = 24;
+  p.marker_angle_min_deg = 20.0;
+  p.marker_angle_max_deg = 80.0;
+  p.adaptive_tau_c = true;
+  p.tau_c_offset = 30;
   return p;
 }
 
@@ -81,6 +86,11 @@ Params sanitize(const Params& in) {
   p.track_memory = clampFinite(p.track_memory, 0.0, 0.99, d.track_memory);
   p.track_max_age = std::min(std::max(p.track_max_age, 0), 10000);
   p.track_gate = clampFinite(p.track_gate, 0.01, 100.0, d.track_gate);
+  p.track_seed_band = std::min(std::max(p.track_seed_band, 0), 10000);
+  p.tau_c_offset = std::min(std::max(p.tau_c_offset, -255), 255);
+  p.marker_angle_min_deg = clampFinite(p.marker_angle_min_deg, 0.0, 90.0, d.marker_angle_min_deg);
+  p.marker_angle_max_deg =
+      clampFinite(p.marker_angle_max_deg, p.marker_angle_min_deg, 90.0, d.marker_angle_max_deg);
 
   p.gap_steps = std::min(std::max(p.gap_steps, 0), 10000);
   p.road_gate_cos = clampFinite(p.road_gate_cos, 0.0, 1.0, d.road_gate_cos);

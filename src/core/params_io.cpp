@@ -36,6 +36,8 @@ Field enumeration(E Params::*m) {
 const std::vector<std::pair<std::string, Field>>& fields() {
   static const std::vector<std::pair<std::string, Field>> table = {
       RLD_FIELD(member, tau_c),
+      RLD_FIELD(boolean, adaptive_tau_c),
+      RLD_FIELD(member, tau_c_offset),
       RLD_FIELD(member, processing_scale),
       RLD_FIELD(member, roi_top),
       RLD_FIELD(member, roi_bottom),
@@ -65,6 +67,8 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       RLD_FIELD(member, plane_distance_min),
       RLD_FIELD(member, plane_distance_max),
       RLD_FIELD(member, gap_steps),
+      RLD_FIELD(member, marker_angle_min_deg),
+      RLD_FIELD(member, marker_angle_max_deg),
       RLD_FIELD(boolean, ego_lane_seeds),
       RLD_FIELD(boolean, road_gate),
       RLD_FIELD(member, road_gate_cos),
@@ -79,6 +83,7 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       RLD_FIELD(member, track_memory),
       RLD_FIELD(member, track_max_age),
       RLD_FIELD(member, track_gate),
+      RLD_FIELD(member, track_seed_band),
   };
   return table;
 }

@@ -1,0 +1,28 @@
+/**
+ * @file adaptive_threshold.h
+ * @brief Per-row half-binary threshold (named option `adaptive_tau_c`): fog lifts the road's grey
+ * with distance, overpasses and shadows lower it, so one fixed tau_c keeps either the road
+ * texture or nothing. Each row is thresholded at its median grey plus an offset.
+ */
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace rgbd_lane_detector {
+
+/**
+ * @brief Zero the pixels of each row below (row median + offset), in place.
+ * @param[in,out] image CV_8UC1 grey (or half-binary) image.
+ * @param[in] rows rows to process.
+ * @param[in] offset added to the row median (clamped to 0..255 after adding).
+ * @param[in,out] histogram scratch buffer (256 bins, reused).
+ */
+void applyRowThreshold(cv::Mat& image, const cv::Range& rows, int offset,
+                       std::vector<int>& histogram);
+
+/// Median grey of one row (the lower median for an even width).
+int rowMedian(const uint8_t* row, int width, std::vector<int>& histogram);
+
+}  // namespace rgbd_lane_detector
