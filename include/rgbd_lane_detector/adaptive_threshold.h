@@ -22,7 +22,8 @@ namespace rgbd_lane_detector {
 void applyRowThreshold(cv::Mat& image, const cv::Range& rows, int offset,
                        std::vector<int>& histogram);
 
-/// Median grey of one row (the lower median for an even width).
-int rowMedian(const uint8_t* row, int width, std::vector<int>& histogram);
+/// Median grey of the pixels 0, stride, 2 stride, ... of one row (the lower median for an even
+/// count).
+int rowMedian(const uint8_t* row, int width, std::vector<int>& histogram, int stride = 1);
 
 }  // namespace rgbd_lane_detector

@@ -98,4 +98,19 @@ class FalsNormals {
   std::vector<int> column_row_;  ///< row whose sums column_ holds, per column
 };
 
+/**
+ * @brief FALS normal of one pixel, straight from the definition in double precision (M and b
+ * summed over the valid pixels of its window): for the few pixels where a normal is needed
+ * without computing a whole normal image.
+ * @param[in] points CV_32FC3 organised points (NaN = invalid).
+ * @param[in] x,y pixel.
+ * @param[in] window window side (3, 5 or 7).
+ * @param[in] K intrinsics of the source pixels.
+ * @param[in] col_map,row_map optional CV_32SC1 source column / row of each pixel.
+ * @param[out] n unit normal toward the camera.
+ * @return false when the window has fewer than 3 valid pixels or they lie in one row or column.
+ */
+bool falsNormalAt(const cv::Mat& points, int x, int y, int window, const Intrinsics& K,
+                  const cv::Mat& col_map, const cv::Mat& row_map, float n[3]);
+
 }  // namespace rgbd_lane_detector

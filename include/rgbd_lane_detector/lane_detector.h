@@ -55,8 +55,11 @@ class LaneDetector {
  private:
   void prepareGeometry(const Frame& frame);
   void resampleColour(const Frame& frame);
-  void applyRoadGate(const cv::Range& rows);
-  void findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value);
+  void applyPlaneGate(const cv::Range& rows);
+  /// road_gate: true when the surface normal at a processing pixel is known and not road-like.
+  bool offRoad(const cv::Point& pixel) const;
+  void findSeed(cv::Mat& R, bool left, cv::Point& peak, float& value);
+  void findBestMatch(const cv::Mat& R, bool left, cv::Point& peak, float& value);
   /// Columns near a side's predicted marker, per row of @p area (band_lo_/band_hi_);
   /// false: no prediction.
   bool predictedBand(int side, const cv::Rect& area);
@@ -95,7 +98,6 @@ class LaneDetector {
   cv::Mat colour_small_;
   cv::Mat half_binary_;
   cv::Mat points_;
-  cv::Mat normals_;
   cv::Mat geometric_;
   cv::Mat response_left_, response_right_;
 
@@ -111,7 +113,6 @@ class LaneDetector {
   LaneTracker tracker_;
   std::vector<Eigen::Vector3f> samples_;
   const std::vector<Eigen::Vector3f> samples_none_;
-  std::vector<Eigen::Vector2d> plane_coords_;
   std::vector<int> band_lo_, band_hi_;
   std::vector<int> row_histogram_;
 };

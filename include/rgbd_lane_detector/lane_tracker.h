@@ -4,11 +4,12 @@
  * paper, named option `track_lanes`).
  *
  * A dashed marker often shows no paint near the car, or a single far dash that yields a few
- * traced points: frame by frame the side is then lost. Each side is modelled in the road plane
- * as lateral(f) = a + b f + c f^2 over the forward distance f, estimated by recursive least
- * squares with exponential forgetting from the traced points of the recent frames. The model
- * bridges dash gaps and short occlusions, and is dropped after a number of frames without
- * evidence.
+ * traced points: frame by frame the side is then lost. The two markers of the ego lane are
+ * modelled in the road plane as parallel curves, lateral_i(f) = a_i + b f + c f^2 over the
+ * forward distance f (own offset a_i, shared shape b, c), estimated by recursive least squares
+ * with exponential forgetting from the traced points of the recent frames. The shared shape lets
+ * a side with little evidence (one short dash) follow the other; the model bridges dash gaps and
+ * short occlusions, and a side is dropped after a number of frames without evidence.
  */
 #pragma once
 
@@ -46,74 +47,74 @@ struct TrackerParams {
   int max_age = 10;         ///< frames a side survives without evidence
   double gate = 0.5;        ///< measurements farther than this (m) from an established model are outliers
   int min_points = 5;       ///< traced points a frame needs to count as evidence
-  double sample_step = 0.5; ///< spacing of the reported marker points (m)
-};
-
-/// Lane marker model of one side.
-class SideModel {
- public:
-  void reset();
-  /// True when the model has evidence no older than max_age frames.
-  bool valid() const { return valid_; }
-  int age() const { return age_; }
-  double lateral(double f) const;
-  /// Forward range covered by the evidence of the recent frames.
-  double nearest() const;
-  double farthest() const;
-
-  /**
-   * @brief One frame: forget, then add the measurements (plane coordinates) that pass the gate.
-   * @return number of measurements accepted.
-   */
-  int update(const std::vector<Eigen::Vector2d>& measurements, const TrackerParams& params);
-
- private:
-  static Eigen::Vector3d basis(double f);
-  void solve();
-  Eigen::Matrix3d A_ = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d coef_ = Eigen::Vector3d::Zero();
-  std::array<Eigen::Vector2d, 6> extents_;  ///< (near, far) of the last frames with evidence
-  int num_extents_ = 0;
-  int next_extent_ = 0;
-  int age_ = 0;
-  int frames_with_evidence_ = 0;
-  bool valid_ = false;
+  double sample_step = 0.5; ///< spacing of the reported marker points (m, before the 1/f spacing)
 };
 
 /**
- * @brief Both sides of the ego lane, tracked in the road plane.
+ * @brief The ego lane's two markers, tracked in the road plane.
  */
 class LaneTracker {
  public:
+  LaneTracker() { reset(); }
   void reset();
-  SideModel& side(int i) { return sides_[i]; }
-  const SideModel& side(int i) const { return sides_[i]; }
+
+  /// True when side @p i (0 left, 1 right) has evidence no older than max_age frames.
+  bool valid(int i) const { return sides_[i].valid; }
+  /// True once a side has two frames of evidence (the model gates its measurements).
+  bool established(int i) const { return sides_[i].valid && sides_[i].frames >= 2; }
+  /// Lateral position of side @p i at forward distance @p f (m).
+  double lateral(int i, double f) const;
 
   /**
-   * @brief Update one side with this frame's traced points.
-   * @param[in] i 0 left, 1 right.
-   * @param[in] frame plane frame of this frame's lane plane.
-   * @param[in] points traced 3D points (non-finite entries skipped).
+   * @brief Update both sides with this frame's traced points.
+   *
+   * The camera's own sideways motion moves both markers alike; it is estimated first (median
+   * disagreement of this frame's points with the established model) and applied to the model,
+   * then the points that pass the gate are added.
+   * @param[in] frame plane frame of this frame's lane plane (invalid: no evidence, sides age).
+   * @param[in] left,right traced 3D points of each side (non-finite entries skipped; empty: no
+   *            evidence for that side).
    * @param[in] params settings.
-   * @param[in,out] scratch buffer reused across calls.
-   * @return measurements accepted.
    */
-  int update(int i, const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& points,
-             const TrackerParams& params, std::vector<Eigen::Vector2d>& scratch);
+  void update(const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& left,
+              const std::vector<Eigen::Vector3f>& right, const TrackerParams& params);
 
   /**
-   * @brief Points of a side's model over the forward range of the lane's recent evidence (both
-   * sides: a dashed boundary is a boundary along the whole observed lane).
+   * @brief Points of a side over the forward range of the lane's recent evidence (both sides: a
+   * dashed boundary is a boundary along the whole observed lane), spaced uniformly in 1/f (about
+   * uniformly in image rows, like traced centroids).
    * @param[in] i side.
    * @param[in] frame plane frame to express them in.
-   * @param[in] step spacing (m).
+   * @param[in] step nominal spacing (m).
    * @param[out] out camera-frame points, near to far (cleared first).
    */
   void sample(int i, const PlaneFrame& frame, double step, std::vector<Eigen::Vector3f>& out) const;
 
  private:
-  std::array<SideModel, 2> sides_;
+  struct Side {
+    std::array<Eigen::Vector2d, 6> extents;  ///< (near, far) of the last frames with evidence
+    int num_extents = 0;
+    int next_extent = 0;
+    int age = 0;     ///< frames since the last evidence
+    int frames = 0;  ///< frames with evidence
+    bool valid = false;
+    double nearest() const;
+    double farthest() const;
+  };
+  using Vec4 = Eigen::Matrix<double, 4, 1>;
+  using Mat4 = Eigen::Matrix<double, 4, 4>;
+  static Vec4 basis(int side, double f);
+  void solve();
+  void shift(double delta);
+  /// Keep the points within @p gate of the robust straight line through them.
+  static void trimToLine(std::vector<Eigen::Vector2d>& m, double gate);
+
+  Mat4 A_;
+  Vec4 b_;
+  Vec4 coef_;  ///< a_left, a_right, b, c
+  std::array<Side, 2> sides_;
+  std::array<std::vector<Eigen::Vector2d>, 2> measurements_;
+  std::vector<double> residuals_;
 };
 
 }  // namespace rgbd_lane_detector

@@ -72,7 +72,7 @@ struct Params {
   double marker_angle_min_deg = 0.0;   ///< seeds whose marker is flatter than this are not traced
   double marker_angle_max_deg = 90.0;  ///< seeds whose marker is steeper than this are not traced
   bool ego_lane_seeds = false;    ///< left seed left of the principal point, right seed right of it
-  bool road_gate = false;         ///< keep only matches whose normal is road-like (|n.O_y| >= road_gate_cos)
+  bool road_gate = false;         ///< seeds and traced points need a road-like normal (|n.O_y| >= road_gate_cos) where depth gives one
   double road_gate_cos = 0.9;     ///< cosine threshold of road_gate
   double plane_gate = 0.0;        ///< >0: ignore matches and points farther than this (m) from the previous plane
   int fill_depth_holes = 0;       ///< >0: fill invalid depth from valid neighbours along rows up to this many px

@@ -18,6 +18,7 @@ struct TraceParams {
   int max_steps = 400;      ///< per direction
   int gap_steps = 0;        ///< empty boxes crossed before stopping (0: paper, stop at the first)
   bool follow_curve = true; ///< update the direction from successive centroids
+  double max_turn = 0.35;   ///< largest direction change from the start (rad, about 20 deg)
 };
 
 /**

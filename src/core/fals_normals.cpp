@@ -650,4 +650,63 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
   }
 }
 
+bool falsNormalAt(const cv::Mat& points, int x, int y, int window, const Intrinsics& K,
+                  const cv::Mat& col_map, const cv::Mat& row_map, float n[3]) {
+  if (points.type() != CV_32FC3 || x < 0 || y < 0 || x >= points.cols || y >= points.rows)
+    return false;
+  const int h = window / 2;
+  double M[6] = {0, 0, 0, 0, 0, 0}, b[3] = {0, 0, 0};
+  int count = 0, min_x = x + h, max_x = x - h, min_y = y + h, max_y = y - h;
+  for (int yy = std::max(0, y - h); yy <= std::min(points.rows - 1, y + h); ++yy) {
+    const int sy = row_map.empty() ? yy : row_map.at<int>(yy);
+    const float* row = points.ptr<float>(yy);
+    for (int xx = std::max(0, x - h); xx <= std::min(points.cols - 1, x + h); ++xx) {
+      const float* p = row + 3 * xx;
+      const double r2 = static_cast<double>(p[0]) * p[0] + static_cast<double>(p[1]) * p[1] +
+                        static_cast<double>(p[2]) * p[2];
+      if (!(r2 > 0.0) || !std::isfinite(r2)) continue;
+      const int sx = col_map.empty() ? xx : col_map.at<int>(xx);
+      double v[3] = {(sx - K.cx) / K.fx, (sy - K.cy) / K.fy, 1.0};
+      const double inv = 1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + 1.0);
+      for (double& c : v) c *= inv;
+      const double inv_r = 1.0 / std::sqrt(r2);
+      M[0] += v[0] * v[0];
+      M[1] += v[0] * v[1];
+      M[2] += v[0] * v[2];
+      M[3] += v[1] * v[1];
+      M[4] += v[1] * v[2];
+      M[5] += v[2] * v[2];
+      for (int c = 0; c < 3; ++c) b[c] += v[c] * inv_r;
+      ++count;
+      min_x = std::min(min_x, xx);
+      max_x = std::max(max_x, xx);
+      min_y = std::min(min_y, yy);
+      max_y = std::max(max_y, yy);
+    }
+  }
+  if (count < 3 || min_x == max_x || min_y == max_y) return false;
+  // n = M^-1 b by the adjugate (M symmetric)
+  const double a00 = M[3] * M[5] - M[4] * M[4], a01 = M[2] * M[4] - M[1] * M[5],
+               a02 = M[1] * M[4] - M[2] * M[3], a11 = M[0] * M[5] - M[2] * M[2],
+               a12 = M[1] * M[2] - M[0] * M[4], a22 = M[0] * M[3] - M[1] * M[1];
+  const double nx = a00 * b[0] + a01 * b[1] + a02 * b[2];
+  const double ny = a01 * b[0] + a11 * b[1] + a12 * b[2];
+  const double nz = a02 * b[0] + a12 * b[1] + a22 * b[2];
+  const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+  if (!(len > 0.0) || !std::isfinite(len)) return false;
+  // toward the camera (the determinant's sign is absorbed here)
+  const float* c = points.ptr<float>(y) + 3 * x;
+  double s = 1.0 / len;
+  if (std::isfinite(c[2]) && nx * c[0] + ny * c[1] + nz * c[2] > 0.0) s = -s;
+  if (!std::isfinite(c[2])) {
+    const int sx = col_map.empty() ? x : col_map.at<int>(x);
+    const int sy = row_map.empty() ? y : row_map.at<int>(y);
+    if (nx * (sx - K.cx) / K.fx + ny * (sy - K.cy) / K.fy + nz > 0.0) s = -s;
+  }
+  n[0] = static_cast<float>(nx * s);
+  n[1] = static_cast<float>(ny * s);
+  n[2] = static_cast<float>(nz * s);
+  return true;
+}
+
 }  // namespace rgbd_lane_detector

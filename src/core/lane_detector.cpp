@@ -62,6 +62,8 @@ double angleFromHorizontalDeg(double angle, bool left) {
 }
 
 // Keep a template angle inside the half-plane of its side, away from horizontal/vertical.
+constexpr int kMaxSeedRetries = 4;
+
 double clampAngle(double angle, bool left) {
   const double lo = 10.0 * M_PI / 180.0, hi = 88.0 * M_PI / 180.0;
   double from_h = left ? M_PI - angle : angle;  // angle from the horizontal
@@ -204,16 +206,14 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   if (p.fill_depth_holes > 0) fillDepthHoles(points_, point_rows, p.fill_depth_holes);
   result.timings.points = msSince(t);
 
-  // 3. normals, and G (Eq. 2) in the same pass: the normals themselves are kept only for the
-  // road gate (and allocated for the plane gate, whose loop walks their rows).
+  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept).
   // 4. matching. 3 and 4 are independent: on two cores when OpenCV may use two threads (each
   // timing is then its own stage's, and they overlap).
   auto normals = [&] {
     const Clock::time_point t3 = Clock::now();
     if (p.use_depth) {
       fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
-      fals_.computeGeometric(points_, roi_rows, p, geometric_, p.road_gate ? &normals_ : nullptr);
-      if (p.plane_gate > 0.0) normals_.create(proc_size_, CV_32FC3);
+      fals_.computeGeometric(points_, roi_rows, p, geometric_);
     }
     result.timings.normals = std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
   };
@@ -228,7 +228,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
 
   // 5. R (G was computed with the normals)
   if (p.use_depth) {
-    if (p.road_gate || (p.plane_gate > 0.0 && previous_plane_.valid)) applyRoadGate(roi_rows);
+    if (p.plane_gate > 0.0 && previous_plane_.valid) applyPlaneGate(roi_rows);
     fuseResponse(response_left_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_left_);
     fuseResponse(response_right_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_right_);
   } else if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
@@ -282,32 +282,34 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   return Status::kOk;
 }
 
-void LaneDetector::applyRoadGate(const cv::Range& rows) {
-  // A match whose surface is known not to be road cannot be a road marking: where the normal is
-  // not road-like (road_gate) or the point lies off the previous lane plane (plane_gate), the
-  // responses are removed from both maps. Named options, off in the paper mode.
-  const bool by_normal = params_.road_gate;
-  const bool by_plane = params_.plane_gate > 0.0 && previous_plane_.valid;
-  const float ux = static_cast<float>(params_.up_x), uy = static_cast<float>(params_.up_y),
-              uz = static_cast<float>(params_.up_z);
-  const float min_cos = static_cast<float>(params_.road_gate_cos);
+void LaneDetector::applyPlaneGate(const cv::Range& rows) {
+  // A match on a surface off the lane plane (a truck's stripe, a guard rail) cannot be a road
+  // marking: the responses of points farther than plane_gate from the previous plane are removed
+  // from both maps (named option, off in the paper mode).
   const Eigen::Vector3f pn = previous_plane_.normal.cast<float>();
   const float pd = static_cast<float>(previous_plane_.distance);
   const float max_off = static_cast<float>(params_.plane_gate);
   for (int y = rows.start; y < rows.end; ++y) {
-    const float* n = normals_.ptr<float>(y);
     const float* q = points_.ptr<float>(y);
     float* ml = response_left_.ptr<float>(y);
     float* mr = response_right_.ptr<float>(y);
-    for (int x = 0; x < proc_size_.width; ++x, n += 3, q += 3) {
-      bool off_road = false;
-      if (by_normal && !std::isnan(n[0]))
-        off_road = std::fabs(n[0] * ux + n[1] * uy + n[2] * uz) < min_cos;
-      if (by_plane && !off_road && !std::isnan(q[2]))
-        off_road = std::fabs(pn.x() * q[0] + pn.y() * q[1] + pn.z() * q[2] + pd) > max_off;
-      if (off_road) ml[x] = mr[x] = 0.f;
+    for (int x = 0; x < proc_size_.width; ++x, q += 3) {
+      if (ml[x] == 0.f && mr[x] == 0.f) continue;
+      if (std::fabs(pn.x() * q[0] + pn.y() * q[1] + pn.z() * q[2] + pd) > max_off)
+        ml[x] = mr[x] = 0.f;  // NaN (no depth) compares false: kept
     }
   }
+}
+
+bool LaneDetector::offRoad(const cv::Point& pixel) const {
+  // road_gate: the surface normal at a match, where depth gives one, must be road-like
+  if (!params_.road_gate || !params_.use_depth) return false;
+  float n[3];
+  if (!falsNormalAt(points_, pixel.x, pixel.y, params_.normal_window, proc_K_, col_map_, row_map_,
+                    n))
+    return false;
+  const double up = n[0] * params_.up_x + n[1] * params_.up_y + n[2] * params_.up_z;
+  return std::fabs(up) < params_.road_gate_cos;
 }
 
 bool LaneDetector::plausibleMarkerAngle(double angle, bool left) const {
@@ -315,7 +317,18 @@ bool LaneDetector::plausibleMarkerAngle(double angle, bool left) const {
   return deg >= params_.marker_angle_min_deg && deg <= params_.marker_angle_max_deg;
 }
 
-void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float& value) {
+void LaneDetector::findSeed(cv::Mat& R, bool left, cv::Point& peak, float& value) {
+  // the best match; with road_gate, a best match on a surface that is not road is removed from
+  // R (a template-sized box) and the next best taken, a few times at most
+  for (int attempt = 0;; ++attempt) {
+    findBestMatch(R, left, peak, value);
+    if (attempt == kMaxSeedRetries || !(value > params_.trace_threshold) || !offRoad(peak)) return;
+    const int half = params_.template_size / 2;
+    R(cv::Rect(peak.x - half, peak.y - half, 2 * half + 1, 2 * half + 1) & roi_).setTo(0);
+  }
+}
+
+void LaneDetector::findBestMatch(const cv::Mat& R, bool left, cv::Point& peak, float& value) {
   cv::Rect area = roi_;
   if (params_.ego_lane_seeds) {
     // the ego lane's left marker lies left of the principal point's column, the right one right
@@ -353,7 +366,7 @@ void LaneDetector::findSeed(const cv::Mat& R, bool left, cv::Point& peak, float&
 
 bool LaneDetector::predictedBand(int side, const cv::Rect& area) {
   const int band = params_.track_seed_band;
-  if (!params_.track_lanes || band <= 0 || !previous_plane_.valid || !tracker_.side(side).valid())
+  if (!params_.track_lanes || band <= 0 || !previous_plane_.valid || !tracker_.valid(side))
     return false;
   const PlaneFrame frame = PlaneFrame::fromPlane(previous_plane_);
   tracker_.sample(side, frame, 1.0, samples_);
@@ -415,7 +428,9 @@ void LaneDetector::buildTrace(const cv::Mat& R, const cv::Point& peak, float pea
     trace.pixels.emplace_back(static_cast<float>((c.x + 0.5) * inv_s - 0.5),
                               static_cast<float>((c.y + 0.5) * inv_sy - 0.5));
     trace.scores.push_back(trace_scores_[i]);
-    const Eigen::Vector3f pt = pointAt(c);
+    Eigen::Vector3f pt = pointAt(c);
+    if (offRoad(cv::Point(static_cast<int>(std::lround(c.x)), static_cast<int>(std::lround(c.y)))))
+      pt.setConstant(std::numeric_limits<float>::quiet_NaN());
     trace.points.push_back(pt);
     if (!std::isnan(pt.z())) ++trace.num_valid_points;
   }

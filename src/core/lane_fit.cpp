@@ -163,7 +163,7 @@ void LaneDetector::fitTracked(Result& result) {
     if (sides[i]->found) {
       for (const auto& q : sides[i]->points)
         if (q.allFinite()) fit_points_.push_back(q);
-    } else if (tracker_.side(i).valid() && previous.valid) {
+    } else if (tracker_.valid(i) && previous.valid) {
       tracker_.sample(i, previous, tp.sample_step, samples_);
       fit_points_.insert(fit_points_.end(), samples_.begin(), samples_.end());
     }
@@ -171,8 +171,8 @@ void LaneDetector::fitTracked(Result& result) {
   const bool any_evidence = sides[0]->found || sides[1]->found;
   bool have_plane = any_evidence && fitPlaneLeastSquares(fit_points_, 0.1, 3, plane) &&
                     planePlausible(plane);
-  if (!have_plane && previous_plane_.valid && tracker_.side(0).valid() &&
-      tracker_.side(1).valid()) {
+  if (!have_plane && previous_plane_.valid && tracker_.valid(0) &&
+      tracker_.valid(1)) {
     // Coast: no usable evidence this frame (a gap in both dashed lines, a washed-out frame);
     // keep the last plane while both lane models live (at most track_max_age frames).
     plane.valid = true;
@@ -185,10 +185,8 @@ void LaneDetector::fitTracked(Result& result) {
   }
   if (!have_plane) {
     plane.valid = false;
-    for (int i = 0; i < 2; ++i) {
-      tracker_.update(i, PlaneFrame(), sides[i]->points, tp, plane_coords_);  // ages the model
-      sides[i]->found = false;
-    }
+    tracker_.update(PlaneFrame(), samples_none_, samples_none_, tp);  // ages the models
+    for (int i = 0; i < 2; ++i) sides[i]->found = false;
     return;
   }
   if (p.plane_smoothing > 0.0 && previous_plane_.valid) {
@@ -202,10 +200,12 @@ void LaneDetector::fitTracked(Result& result) {
   // Evidence in this plane's coordinates (paint lies on the road: rays met with the plane),
   // then each side is reported as its model over the range of its recent evidence.
   const PlaneFrame frame = PlaneFrame::fromPlane(plane);
+  for (int i = 0; i < 2; ++i)
+    if (sides[i]->found) snapToPlane(plane, *sides[i]);
+  tracker_.update(frame, result.left.found ? result.left.points : samples_none_,
+                  result.right.found ? result.right.points : samples_none_, tp);
   for (int i = 0; i < 2; ++i) {
     MarkerTrace& m = *sides[i];
-    if (m.found) snapToPlane(plane, m);
-    tracker_.update(i, frame, m.found ? m.points : samples_none_, tp, plane_coords_);
     tracker_.sample(i, frame, tp.sample_step, m.points);
     m.pixels.clear();
     m.scores.clear();

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 namespace rgbd_lane_detector {
 namespace {
@@ -13,11 +14,14 @@ constexpr double kForwardScale = 20.0;  // m; keeps the normal equations well co
 // Ridge on the curvature term: a short, straight stretch of evidence must not yield a
 // strongly curved model when extrapolated.
 constexpr double kCurvatureRidge = 0.5;
-// An established model whose evidence is this many frames old may be replaced at once by
-// measurements that disagree with it (lane change, or a track that was wrong).
+// A side whose evidence is this many frames old may be replaced at once by measurements that
+// disagree with it (lane change, or a track that was wrong).
 constexpr int kStaleAge = 3;
-// Measurements nearer than this (m) get full weight.
+// Measurements nearer than this (m) get full weight; farther ones 1/f^2 (a pixel's lateral
+// extent grows with the distance).
 constexpr double kNearRange = 10.0;
+// How far (m) a side is reported beyond its own evidence.
+constexpr double kMaxExtrapolation = 15.0;
 // Upper bound of the reported points per side.
 constexpr int kMaxSamples = 40;
 
@@ -36,114 +40,170 @@ PlaneFrame PlaneFrame::fromPlane(const PlaneEstimate& plane) {
   return f;
 }
 
-void SideModel::reset() {
+double LaneTracker::Side::nearest() const {
+  double v = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < num_extents; ++i) v = std::min(v, extents[i].x());
+  return v;
+}
+
+double LaneTracker::Side::farthest() const {
+  double v = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < num_extents; ++i) v = std::max(v, extents[i].y());
+  return v;
+}
+
+void LaneTracker::reset() {
   A_.setZero();
   b_.setZero();
   coef_.setZero();
-  num_extents_ = next_extent_ = 0;
-  age_ = 0;
-  frames_with_evidence_ = 0;
-  valid_ = false;
+  for (auto& s : sides_) s = Side();
 }
 
-Eigen::Vector3d SideModel::basis(double f) {
+LaneTracker::Vec4 LaneTracker::basis(int side, double f) {
   const double s = f / kForwardScale;
-  return Eigen::Vector3d(1.0, s, s * s);
-}
-
-double SideModel::lateral(double f) const { return coef_.dot(basis(f)); }
-
-double SideModel::nearest() const {
-  double v = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < num_extents_; ++i) v = std::min(v, extents_[i].x());
+  Vec4 v;
+  v << (side == 0 ? 1.0 : 0.0), (side == 1 ? 1.0 : 0.0), s, s * s;
   return v;
 }
 
-double SideModel::farthest() const {
-  double v = -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < num_extents_; ++i) v = std::max(v, extents_[i].y());
-  return v;
+double LaneTracker::lateral(int i, double f) const { return coef_.dot(basis(i, f)); }
+
+void LaneTracker::shift(double delta) {
+  // the data moved sideways by delta: b = sum w phi l -> b + delta sum w phi, and
+  // sum w phi = A e0 + A e1 (the intercept entries of phi are the side indicators)
+  b_ += delta * (A_.col(0) + A_.col(1));
+  coef_[0] += delta;
+  coef_[1] += delta;
 }
 
-void SideModel::solve() {
-  Eigen::Matrix3d M = A_;
+void LaneTracker::solve() {
+  Mat4 M = A_;
   M(0, 0) += 1e-9;
   M(1, 1) += 1e-9;
-  M(2, 2) += kCurvatureRidge;
+  M(2, 2) += 1e-9;
+  M(3, 3) += kCurvatureRidge;
   coef_ = M.ldlt().solve(b_);
   if (!coef_.allFinite()) reset();
 }
 
-int SideModel::update(const std::vector<Eigen::Vector2d>& m, const TrackerParams& params) {
+void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& left,
+                         const std::vector<Eigen::Vector3f>& right, const TrackerParams& params) {
+  const std::vector<Eigen::Vector3f>* points[2] = {&left, &right};
+  for (int i = 0; i < 2; ++i) {
+    measurements_[i].clear();
+    if (!frame.valid) continue;
+    for (const auto& p : *points[i])
+      if (p.allFinite()) measurements_[i].push_back(frame.toPlane(p.cast<double>()));
+  }
+  auto enough = [&](int i) { return static_cast<int>(measurements_[i].size()) >= params.min_points; };
+
+  // Gate per side; a stale side whose new evidence disagrees starts the model over.
+  bool gate[2] = {false, false};
+  for (int i = 0; i < 2; ++i) {
+    if (!enough(i) || !established(i)) continue;
+    int inliers = 0;
+    for (const auto& q : measurements_[i]) inliers += std::fabs(q.y() - lateral(i, q.x())) <= params.gate;
+    gate[i] = true;
+    if (2 * inliers < static_cast<int>(measurements_[i].size()) && sides_[i].age >= kStaleAge) {
+      reset();
+      gate[0] = gate[1] = false;
+      break;
+    }
+  }
+
+  // A side without an established model is checked against itself: points off the robust line
+  // through its own points (a trace that left the marker) are dropped.
+  for (int i = 0; i < 2; ++i)
+    if (enough(i) && !gate[i]) trimToLine(measurements_[i], params.gate);
+
+  // Common sideways motion of the lane relative to the camera since the last frame.
+  residuals_.clear();
+  for (int i = 0; i < 2; ++i) {
+    if (!gate[i]) continue;
+    for (const auto& q : measurements_[i]) {
+      const double r = q.y() - lateral(i, q.x());
+      if (std::fabs(r) <= 2.0 * params.gate) residuals_.push_back(r);
+    }
+  }
+  if (static_cast<int>(residuals_.size()) >= params.min_points) {
+    std::nth_element(residuals_.begin(), residuals_.begin() + residuals_.size() / 2,
+                     residuals_.end());
+    shift(residuals_[residuals_.size() / 2]);
+  }
+
   A_ *= params.memory;
   b_ *= params.memory;
-  int accepted = 0;
-  double near = std::numeric_limits<double>::infinity(), far = -near;
-  if (static_cast<int>(m.size()) >= params.min_points) {
-    bool use_gate = valid_ && frames_with_evidence_ >= 2;
-    if (use_gate) {
-      int inliers = 0;
-      for (const auto& q : m) inliers += std::fabs(q.y() - lateral(q.x())) <= params.gate;
-      if (2 * inliers < static_cast<int>(m.size())) {
-        if (age_ >= kStaleAge) {
-          reset();  // the evidence moved for good: start over from this frame
-          use_gate = false;
-        } else {
-          use_gate = true;  // a stray frame: its disagreeing points are rejected below
-        }
+  bool changed = false;
+  for (int i = 0; i < 2; ++i) {
+    Side& side = sides_[i];
+    int accepted = 0;
+    double near = std::numeric_limits<double>::infinity(), far = -near;
+    if (enough(i)) {
+      for (const auto& q : measurements_[i]) {
+        if (gate[i] && std::fabs(q.y() - lateral(i, q.x())) > params.gate) continue;
+        const double r = std::max(q.x(), kNearRange) / kNearRange;
+        const double w = 1.0 / (r * r);
+        const Vec4 phi = basis(i, q.x());
+        A_.noalias() += w * phi * phi.transpose();
+        b_.noalias() += w * phi * q.y();
+        near = std::min(near, q.x());
+        far = std::max(far, q.x());
+        ++accepted;
       }
     }
-    for (const auto& q : m) {
-      if (use_gate && std::fabs(q.y() - lateral(q.x())) > params.gate) continue;
-      // a pixel's lateral extent grows with distance: weight 1/f^2 beyond kNearRange
-      const double r = std::max(q.x(), kNearRange) / kNearRange;
-      const double w = 1.0 / (r * r);
-      const Eigen::Vector3d phi = basis(q.x());
-      A_.noalias() += w * phi * phi.transpose();
-      b_.noalias() += w * phi * q.y();
-      near = std::min(near, q.x());
-      far = std::max(far, q.x());
-      ++accepted;
+    if (accepted >= params.min_points) {
+      side.extents[side.next_extent] = Eigen::Vector2d(near, far);
+      side.next_extent = (side.next_extent + 1) % static_cast<int>(side.extents.size());
+      side.num_extents = std::min(side.num_extents + 1, static_cast<int>(side.extents.size()));
+      side.age = 0;
+      ++side.frames;
+      side.valid = true;
+      changed = true;
+    } else if (side.valid && ++side.age > params.max_age) {
+      side = Side();  // its information decays out of the sums
     }
   }
-  if (accepted >= params.min_points) {
-    extents_[next_extent_] = Eigen::Vector2d(near, far);
-    next_extent_ = (next_extent_ + 1) % static_cast<int>(extents_.size());
-    num_extents_ = std::min(num_extents_ + 1, static_cast<int>(extents_.size()));
-    age_ = 0;
-    ++frames_with_evidence_;
-    valid_ = true;
-    solve();
-  } else if (valid_ && ++age_ > params.max_age) {
-    reset();
-  }
-  return accepted;
+  if (changed) solve();
 }
 
-void LaneTracker::reset() {
-  for (auto& s : sides_) s.reset();
-}
-
-int LaneTracker::update(int i, const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& points,
-                        const TrackerParams& params, std::vector<Eigen::Vector2d>& scratch) {
-  scratch.clear();
-  if (frame.valid) {
-    for (const auto& p : points)
-      if (p.allFinite()) scratch.push_back(frame.toPlane(p.cast<double>()));
+void LaneTracker::trimToLine(std::vector<Eigen::Vector2d>& m, double gate) {
+  // least squares line lateral = a + b f, then refits on the points within gate of it
+  Eigen::Vector2d line(0.0, 0.0);
+  bool have = false;
+  for (int it = 0; it < 3; ++it) {
+    Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    for (const auto& q : m) {
+      const double s = q.x() / kForwardScale;
+      if (have && std::fabs(q.y() - (line[0] + line[1] * s)) > gate) continue;
+      const Eigen::Vector2d phi(1.0, s);
+      N.noalias() += phi * phi.transpose();
+      r += phi * q.y();
+    }
+    if (N.determinant() < 1e-9) break;
+    line = N.ldlt().solve(r);
+    have = true;
   }
-  return sides_[i].update(scratch, params);
+  if (!have) return;
+  m.erase(std::remove_if(m.begin(), m.end(),
+                         [&](const Eigen::Vector2d& q) {
+                           return std::fabs(q.y() - (line[0] + line[1] * q.x() / kForwardScale)) >
+                                  gate;
+                         }),
+          m.end());
 }
 
 void LaneTracker::sample(int i, const PlaneFrame& frame, double step,
                          std::vector<Eigen::Vector3f>& out) const {
   out.clear();
-  const SideModel& s = sides_[i];
-  if (!s.valid() || !frame.valid || !(step > 0.0)) return;
+  const Side& s = sides_[i];
+  if (!s.valid || !frame.valid || !(step > 0.0)) return;
   double near = s.nearest(), far = s.farthest();
-  const SideModel& other = sides_[1 - i];
-  if (other.valid()) {
+  const Side& other = sides_[1 - i];
+  if (other.valid) {
+    // extend over the other side's range, but report a side only so far beyond its own evidence
     near = std::min(near, other.nearest());
-    far = std::max(far, other.farthest());
+    far = std::max(far, std::min(other.farthest(), far + kMaxExtrapolation));
   }
   near = std::max(near, 0.5);
   if (!(far >= near)) return;
@@ -154,7 +214,7 @@ void LaneTracker::sample(int i, const PlaneFrame& frame, double step,
   const double a = 1.0 / near, b = 1.0 / far;
   for (int k = 0; k < n; ++k) {
     const double f = 1.0 / (a + (b - a) * k / (n - 1));
-    out.push_back(frame.toCamera(f, s.lateral(f)).cast<float>());
+    out.push_back(frame.toCamera(f, lateral(i, f)).cast<float>());
   }
 }
 

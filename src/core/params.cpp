@@ -18,6 +18,7 @@ Params Params::improved() {
   p.gap_steps = 12;
   p.ego_lane_seeds = true;
   p.road_gate = true;
+  p.plane_gate = 0.3;
   p.plane_fit = PlaneFit::kLeastSquares;
   p.plane_max_tilt_deg = 30.0;
   p.plane_distance_min = 0.3;

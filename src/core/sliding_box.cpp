@@ -40,6 +40,8 @@ void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
                     std::vector<cv::Point2f>& out, std::vector<float>& scores) {
   cv::Point2f pos = start;
   cv::Point2f last = start;  // last recorded centroid
+  const cv::Point2f d0 = d;
+  const float cos_max_turn = static_cast<float>(std::cos(tp.max_turn));
   const float jump = static_cast<float>(std::max(tp.jump, 1));
   int gaps = 0;
   for (int step = 0; step < tp.max_steps; ++step) {
@@ -67,7 +69,9 @@ void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
         if (len >= jump) {
           cv::Point2f nd = 0.5f * d + 0.5f * (delta / len);
           const float nl = std::sqrt(nd.dot(nd));
-          if (nl > 1e-6f) d = nd / nl;
+          // a marker bends gently in the image; a trace turning further than max_turn from
+          // its start has left the marker (a vehicle's edge, a shadow boundary)
+          if (nl > 1e-6f && (nd / nl).dot(d0) >= cos_max_turn) d = nd / nl;
         }
       }
       last = c;
