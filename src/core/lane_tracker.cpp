@@ -116,19 +116,25 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
   for (int i = 0; i < 2; ++i)
     if (enough(i) && !gate[i]) trimToLine(measurements_[i], params.gate);
 
-  // Common sideways motion of the lane relative to the camera since the last frame.
-  residuals_.clear();
+  // Common sideways motion of the lane relative to the camera since the last frame: the median
+  // disagreement of each observed side with the model, taken when it is a plausible motion (at
+  // most the gate) and, with both sides observed, when they agree.
+  double side_shift[2];
+  bool have_shift[2] = {false, false};
   for (int i = 0; i < 2; ++i) {
     if (!gate[i]) continue;
-    for (const auto& q : measurements_[i]) {
-      const double r = q.y() - lateral(i, q.x());
-      if (std::fabs(r) <= 2.0 * params.gate) residuals_.push_back(r);
-    }
-  }
-  if (static_cast<int>(residuals_.size()) >= params.min_points) {
+    residuals_.clear();
+    for (const auto& q : measurements_[i]) residuals_.push_back(q.y() - lateral(i, q.x()));
     std::nth_element(residuals_.begin(), residuals_.begin() + residuals_.size() / 2,
                      residuals_.end());
-    shift(residuals_[residuals_.size() / 2]);
+    side_shift[i] = residuals_[residuals_.size() / 2];
+    have_shift[i] = std::fabs(side_shift[i]) <= params.gate;
+  }
+  if (have_shift[0] && have_shift[1]) {
+    if (std::fabs(side_shift[0] - side_shift[1]) <= 0.5 * params.gate)
+      shift(0.5 * (side_shift[0] + side_shift[1]));
+  } else if (have_shift[0] || have_shift[1]) {
+    shift(have_shift[0] ? side_shift[0] : side_shift[1]);
   }
 
   A_ *= params.memory;

@@ -31,7 +31,7 @@ void RoadScene::render(cv::Mat& bgr, cv::Mat& depth_mm, cv::Mat* depth_m) const 
           auto on = [&](double centre, bool dashed) {
             if (std::fabs(X - centre) > 0.5 * marker_width) return false;
             if (!dashed) return true;
-            return std::fmod(F, dash_period) < dash_length;
+            return std::fmod(F + travelled, dash_period) < dash_length;
           };
           if (on(leftMarkerX(), left_dashed) || on(rightMarkerX(), right_dashed)) grey = paint;
         }

@@ -23,6 +23,7 @@ struct RoadScene {
   bool right_dashed = false;
   double dash_length = 3.0;                    // m
   double dash_period = 12.0;                   // m
+  double travelled = 0.0;                      // m driven: shifts the dash pattern
   int asphalt = 70;
   int paint = 230;
   int sky = 200;

@@ -359,3 +359,38 @@ TEST(FalsNormals, GeometricMapEqualsTheMapOfTheNormals) {
 
 }  // namespace
 }  // namespace rgbd_lane_detector
+
+namespace rgbd_lane_detector {
+namespace {
+
+TEST(FalsNormalAt, AgreesWithTheNormalImage) {
+  const Eigen::Vector3d n = Eigen::Vector3d(0.1, -0.25, -0.9).normalized();  // faces the camera
+  const cv::Size size(160, 120);
+  cv::Mat pts = planePoints(n, 3.0, size);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int x = 40; x < 44; ++x) pts.at<cv::Vec3f>(60, x) = cv::Vec3f(nan, nan, nan);  // a hole
+  FalsNormals fals;
+  fals.configure(size, kK, 5);
+  cv::Mat normals;
+  fals.compute(pts, cv::Range(0, size.height), normals);
+  int checked = 0;
+  for (int y = 50; y < 70; y += 3)
+    for (int x = 30; x < 60; x += 3) {
+      float q[3];
+      const cv::Vec3f ref = normals.at<cv::Vec3f>(y, x);
+      const bool ok = falsNormalAt(pts, x, y, 5, kK, cv::Mat(), cv::Mat(), q);
+      ASSERT_EQ(ok, !std::isnan(ref[0])) << x << "," << y;
+      if (!ok) continue;
+      EXPECT_LT(angleTo(cv::Vec3f(q[0], q[1], q[2]), n), 1e-3);
+      EXPECT_GT(q[0] * ref[0] + q[1] * ref[1] + q[2] * ref[2], 0.999f);
+      ++checked;
+    }
+  EXPECT_GT(checked, 50);
+  float q[3];
+  EXPECT_FALSE(falsNormalAt(pts, -1, 5, 5, kK, cv::Mat(), cv::Mat(), q));
+  cv::Mat empty(size, CV_32FC3, cv::Scalar(nan, nan, nan));
+  EXPECT_FALSE(falsNormalAt(empty, 50, 50, 5, kK, cv::Mat(), cv::Mat(), q));
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,38 @@
+// Per-row adaptive half-binary threshold.
+#include <gtest/gtest.h>
+
+#include "rgbd_lane_detector/adaptive_threshold.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+TEST(AdaptiveThreshold, RowMedian) {
+  std::vector<int> hist;
+  const uint8_t row[] = {9, 1, 7, 3, 5};
+  EXPECT_EQ(rowMedian(row, 5, hist), 5);
+  const uint8_t even[] = {10, 20, 30, 40};
+  EXPECT_EQ(rowMedian(even, 4, hist), 20);  // lower median
+  // every 4th pixel: 0, 100, 200
+  uint8_t strided[12] = {0, 255, 255, 255, 100, 255, 255, 255, 200, 255, 255, 255};
+  EXPECT_EQ(rowMedian(strided, 12, hist, 4), 100);
+}
+
+TEST(AdaptiveThreshold, EachRowAtItsMedianPlusOffset) {
+  // a dark row (shadow, overpass) and a bright row (fog), each with one bright marker pixel
+  cv::Mat img(3, 8, CV_8UC1);
+  const uint8_t dark[] = {20, 22, 25, 21, 60, 23, 24, 20};
+  const uint8_t fog[] = {150, 155, 152, 151, 210, 149, 153, 150};
+  std::copy(dark, dark + 8, img.ptr<uint8_t>(0));
+  std::copy(fog, fog + 8, img.ptr<uint8_t>(1));
+  img.row(2).setTo(77);
+  std::vector<int> hist;
+  applyRowThreshold(img, cv::Range(0, 2), 30, hist);
+  for (int x = 0; x < 8; ++x) {
+    EXPECT_EQ(img.at<uint8_t>(0, x), x == 4 ? 60 : 0);   // a fixed tau_c = 100 would lose it
+    EXPECT_EQ(img.at<uint8_t>(1, x), x == 4 ? 210 : 0);  // a fixed tau_c = 100 keeps all fog
+    EXPECT_EQ(img.at<uint8_t>(2, x), 77);                // outside the rows: untouched
+  }
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,160 @@
+// Temporal lane model: parallel markers in the road plane, gap bridging, drift, outliers.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "rgbd_lane_detector/lane_tracker.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+// A level road 1.5 m below the camera: forward = z, lateral = x.
+PlaneEstimate road() {
+  PlaneEstimate p;
+  p.valid = true;
+  p.normal = Eigen::Vector3d(0, -1, 0);
+  p.distance = 1.5;
+  return p;
+}
+
+std::vector<Eigen::Vector3f> marker(double (*lateral)(double), double offset, double f0,
+                                    double f1, double step = 1.0) {
+  std::vector<Eigen::Vector3f> pts;
+  for (double f = f0; f <= f1 + 1e-9; f += step)
+    pts.emplace_back(static_cast<float>(lateral(f) + offset), 1.5f, static_cast<float>(f));
+  return pts;
+}
+
+double straight(double) { return 0.0; }
+double curved(double f) { return f * f / (2.0 * 300.0); }  // 300 m radius to the right
+
+const std::vector<Eigen::Vector3f> kNone;
+
+TEST(PlaneFrame, AxesOfALevelRoad) {
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  ASSERT_TRUE(f.valid);
+  EXPECT_LT((f.forward - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_LT((f.lateral - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+  EXPECT_LT((f.origin - Eigen::Vector3d(0, 1.5, 0)).norm(), 1e-12);
+  const Eigen::Vector2d q = f.toPlane(Eigen::Vector3d(-1.8, 1.5, 12.0));
+  EXPECT_NEAR(q.x(), 12.0, 1e-12);
+  EXPECT_NEAR(q.y(), -1.8, 1e-12);
+  EXPECT_LT((f.toCamera(12.0, -1.8) - Eigen::Vector3d(-1.8, 1.5, 12.0)).norm(), 1e-12);
+  EXPECT_FALSE(PlaneFrame::fromPlane(PlaneEstimate()).valid);
+}
+
+TEST(LaneTracker, StraightLaneFromOneFrame) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  ASSERT_TRUE(t.valid(0) && t.valid(1));
+  for (double d : {3.0, 10.0, 20.0}) {
+    EXPECT_NEAR(t.lateral(0, d), -1.8, 0.01);
+    EXPECT_NEAR(t.lateral(1, d), 1.8, 0.01);
+  }
+  std::vector<Eigen::Vector3f> out;
+  t.sample(0, f, tp.sample_step, out);
+  ASSERT_GE(out.size(), 5u);
+  for (size_t i = 0; i < out.size(); ++i) {
+    EXPECT_NEAR(out[i].x(), -1.8f, 0.01f);
+    EXPECT_NEAR(out[i].y(), 1.5f, 1e-5f);  // on the plane
+    EXPECT_GE(out[i].z(), 3.0f - 1e-4f);
+    EXPECT_LE(out[i].z(), 20.0f + 1e-4f);
+    if (i > 0) {
+      EXPECT_GT(out[i].z(), out[i - 1].z());  // near to far
+    }
+  }
+}
+
+TEST(LaneTracker, BridgesADashGapAndForgetsAfterMaxAge) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  tp.max_age = 6;
+  for (int i = 0; i < 2; ++i)
+    t.update(f, marker(straight, -1.8, 4, 8), marker(straight, 1.8, 3, 30), tp);
+  // no paint on the left for max_age frames: the left marker is still known and still parallel
+  for (int i = 0; i < tp.max_age; ++i) {
+    t.update(f, kNone, marker(straight, 1.8, 3, 30), tp);
+    ASSERT_TRUE(t.valid(0)) << i;
+  }
+  EXPECT_NEAR(t.lateral(0, 25.0), -1.8, 0.02);
+  std::vector<Eigen::Vector3f> out;
+  t.sample(0, f, tp.sample_step, out);
+  ASSERT_FALSE(out.empty());
+  EXPECT_GT(out.back().z(), 8.0f + 5.0f);  // reported beyond its own short evidence
+  t.update(f, kNone, marker(straight, 1.8, 3, 30), tp);
+  EXPECT_FALSE(t.valid(0));
+  EXPECT_TRUE(t.valid(1));
+}
+
+TEST(LaneTracker, SidewaysMotionMovesBothMarkers) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  // the car drifts right 0.1 m per frame: the lane moves left; only the right side is seen
+  double shift = 0.0;
+  for (int i = 0; i < 5; ++i) {
+    shift -= 0.1;
+    t.update(f, kNone, marker(straight, 1.8 + shift, 3, 20), tp);
+  }
+  EXPECT_NEAR(t.lateral(1, 10.0), 1.8 + shift, 0.02);
+  EXPECT_NEAR(t.lateral(0, 10.0), -1.8 + shift, 0.03);  // followed without evidence of its own
+}
+
+TEST(LaneTracker, RejectsStrayPointsButFollowsALaneChange) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  for (int i = 0; i < 3; ++i)
+    t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  // a stray trace 1 m off on the left (a shadow edge) in one frame: rejected
+  t.update(f, marker(straight, -0.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  EXPECT_NEAR(t.lateral(0, 10.0), -1.8, 0.02);
+  // the left side is lost for a while, then seen for good 3.6 m further left (lane change)
+  for (int i = 0; i < 4; ++i) t.update(f, kNone, kNone, tp);
+  t.update(f, marker(straight, -5.4, 3, 20), marker(straight, -1.8, 3, 20), tp);
+  EXPECT_NEAR(t.lateral(0, 10.0), -5.4, 0.05);
+  EXPECT_NEAR(t.lateral(1, 10.0), -1.8, 0.05);
+}
+
+TEST(LaneTracker, FirstEvidenceIsTrimmedToItsOwnLine) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  std::vector<Eigen::Vector3f> left = marker(straight, -1.8, 3, 20);
+  for (double d = 12; d <= 18; d += 1.0)  // the trace left the marker along a vehicle's edge
+    left.emplace_back(static_cast<float>(-1.8 + 0.5 * (d - 10.0)), 1.5f, static_cast<float>(d));
+  t.update(f, left, marker(straight, 1.8, 3, 20), tp);
+  EXPECT_NEAR(t.lateral(0, 16.0), -1.8, 0.05);
+}
+
+TEST(LaneTracker, CurvedLane) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  for (int i = 0; i < 3; ++i)
+    t.update(f, marker(curved, -1.8, 3, 40, 0.5), marker(curved, 1.8, 3, 40, 0.5), tp);
+  for (double d : {5.0, 20.0, 35.0}) {
+    EXPECT_NEAR(t.lateral(0, d), curved(d) - 1.8, 0.05) << d;
+    EXPECT_NEAR(t.lateral(1, d), curved(d) + 1.8, 0.05) << d;
+  }
+}
+
+TEST(LaneTracker, InvalidFrameAgesWithoutCrashing) {
+  LaneTracker t;
+  TrackerParams tp;
+  t.update(PlaneFrame(), marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  EXPECT_FALSE(t.valid(0));
+  EXPECT_FALSE(t.valid(1));
+  std::vector<Eigen::Vector3f> out(3);
+  t.sample(0, PlaneFrame::fromPlane(road()), 0.5, out);
+  EXPECT_TRUE(out.empty());
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
