@@ -102,6 +102,21 @@ void BM_Detect(benchmark::State& state) {
   setLabel(state, d);
 }
 
+// detect() in the package's recommended mode (Params::improved(): adaptive threshold, gates,
+// lane model), single thread.
+void BM_DetectImproved(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  LaneDetector det(Params::improved());
+  Result r;
+  for (int i = 0; i < kFrames; ++i) det.detect(d.frames[i].frame(), r);  // warm-up
+  int i = 0;
+  for (auto _ : state) {
+    det.detect(d.frames[i++ % kFrames].frame(), r);
+    benchmark::DoNotOptimize(r.plane.distance);
+  }
+  setLabel(state, d);
+}
+
 // detect() with the second core (runPair: normals + G next to matching), wall time.
 void BM_Detect2(benchmark::State& state) {
   Data& d = data(static_cast<int>(state.range(0)));
@@ -255,6 +270,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Detect)->Apply(sizes);
+BENCHMARK(BM_DetectImproved)->Apply(sizes);
 BENCHMARK(BM_Detect2)->Apply(sizes)->UseRealTime();
 BENCHMARK(BM_OpenCV_Pipeline)->Apply(sizes);
 BENCHMARK(BM_Stage_HalfBinary)->Apply(sizes);

@@ -144,6 +144,16 @@ def main():
         d, o = get(runs, "BM_Detect", w), get(runs, "BM_OpenCV_Pipeline", w)
         ok = "met" if d and o and o / d >= 8 else "NOT met"
         L.append(f"| {w}x{h} | {ms(d)} | {ms(o)} | {ratio(d, o)} | {ok} |")
+    if any(("BM_DetectImproved", w) in runs for w, _ in SIZES):
+        L.append("")
+        L.append("The package's recommended mode (`Params::improved()`: adaptive threshold, road "
+                 "and plane gates, lane model) on the same frames, one thread:")
+        L.append("")
+        L.append("| size | detect() improved ms | ratio to the OpenCV pipeline |")
+        L.append("| --- | ---: | ---: |")
+        for w, h in SIZES:
+            di = get(runs, "BM_DetectImproved", w)
+            L.append(f"| {w}x{h} | {ms(di)} | {ratio(di, get(runs, 'BM_OpenCV_Pipeline', w))} |")
     if any(("BM_Detect2", w) in runs for w, _ in SIZES):
         L.append("")
         L.append("With the second core (`cv::setNumThreads(2)`: normals and G on a helper "
