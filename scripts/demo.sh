@@ -38,23 +38,8 @@ BAG="$OUT/$NAME.bag"
 LOGS="$OUT/logs"
 t_start=$(date +%s)
 
-find_tool() {
-  local name="$1" dir
-  if [ -n "${TOOLS_BIN:-}" ] && [ -x "$TOOLS_BIN/$name" ]; then
-    echo "$TOOLS_BIN/$name"
-    return 0
-  fi
-  local IFS=:
-  for dir in ${CMAKE_PREFIX_PATH:-}; do
-    if [ -x "$dir/lib/rgbd_lane_detector/$name" ]; then
-      echo "$dir/lib/rgbd_lane_detector/$name"
-      return 0
-    fi
-  done
-  echo "demo.sh: '$name' not found; build the workspace and source its setup.bash" \
-       "(make demo does both) or set TOOLS_BIN" >&2
-  return 1
-}
+# shellcheck source=find_tool.sh
+source "$(dirname "${BASH_SOURCE[0]}")/find_tool.sh"
 GENERATE="$(find_tool generate_sequence)"
 TO_BAG="$(find_tool sequence_to_bag)"
 RUN="$(find_tool run_dataset)"

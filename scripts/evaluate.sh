@@ -31,23 +31,8 @@ SEQUENCES=(
   lane_like_objects:clean no_markings:clean curve:clean summer:kinect summer:sparse
 )
 
-find_tool() {
-  local name="$1" dir
-  if [ -n "${TOOLS_BIN:-}" ] && [ -x "$TOOLS_BIN/$name" ]; then
-    echo "$TOOLS_BIN/$name"
-    return 0
-  fi
-  local IFS=:
-  for dir in ${CMAKE_PREFIX_PATH:-}; do
-    if [ -x "$dir/lib/rgbd_lane_detector/$name" ]; then
-      echo "$dir/lib/rgbd_lane_detector/$name"
-      return 0
-    fi
-  done
-  echo "evaluate.sh: '$name' not found; build the workspace and source its setup.bash" \
-       "(make eval does both) or set TOOLS_BIN" >&2
-  return 1
-}
+# shellcheck source=find_tool.sh
+source "$(dirname "${BASH_SOURCE[0]}")/find_tool.sh"
 
 GENERATE="$(find_tool generate_sequence)"
 EVALUATE="$(find_tool evaluate_sequences)"

@@ -21,6 +21,14 @@ const std::vector<std::string>& paramNames();
  */
 bool setParam(Params& p, const std::string& name, double value);
 
+/**
+ * @brief Set one field by name from text as in a YAML file: a number, true/false, or an enum
+ * name (near_high, far_high, three_point, least_squares).
+ * @return false for an unknown name or a malformed value (@p error says which).
+ */
+bool setParamText(Params& p, const std::string& name, const std::string& text,
+                  std::string* error = nullptr);
+
 /// Read one field by name as a double; false for an unknown name.
 bool getParam(const Params& p, const std::string& name, double& value);
 

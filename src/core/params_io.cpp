@@ -1,5 +1,6 @@
 #include "rgbd_lane_detector/params_io.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -105,8 +106,8 @@ std::string trim(const std::string& s) {
 
 bool parseValue(const std::string& text, double& v) {
   static const std::map<std::string, double> words = {
-      {"true", 1}, {"True", 1}, {"false", 0}, {"False", 0},
-      {"near_high", 0}, {"far_high", 1}, {"three_point", 0}, {"least_squares", 1}};
+      {"true", 1},  {"True", 1},      {"TRUE", 1},     {"false", 0},       {"False", 0},
+      {"FALSE", 0}, {"near_high", 0}, {"far_high", 1}, {"three_point", 0}, {"least_squares", 1}};
   const auto w = words.find(text);
   if (w != words.end()) {
     v = w->second;
@@ -114,7 +115,7 @@ bool parseValue(const std::string& text, double& v) {
   }
   char* end = nullptr;
   v = std::strtod(text.c_str(), &end);
-  return end != text.c_str() && *end == '\0';
+  return end != text.c_str() && *end == '\0' && std::isfinite(v);
 }
 
 }  // namespace
@@ -132,6 +133,22 @@ bool setParam(Params& p, const std::string& name, double value) {
   const Field* f = find(name);
   if (!f) return false;
   f->set(p, value);
+  return true;
+}
+
+bool setParamText(Params& p, const std::string& name, const std::string& text,
+                  std::string* error) {
+  const Field* f = find(name);
+  if (!f) {
+    if (error) *error = "unknown parameter '" + name + "'";
+    return false;
+  }
+  double v = 0;
+  if (!parseValue(trim(text), v)) {
+    if (error) *error = "invalid value '" + text + "' for parameter '" + name + "'";
+    return false;
+  }
+  f->set(p, v);
   return true;
 }
 

@@ -14,21 +14,6 @@ namespace rgbd_lane_detector {
 namespace tools {
 namespace {
 
-// Text to the numeric form of the core's setParam(): numbers, booleans and the enum names.
-bool parseValue(const std::string& text, double& v) {
-  static const std::map<std::string, double> words = {
-      {"true", 1},  {"True", 1},      {"TRUE", 1},     {"false", 0},       {"False", 0},
-      {"FALSE", 0}, {"near_high", 0}, {"far_high", 1}, {"three_point", 0}, {"least_squares", 1}};
-  const auto w = words.find(text);
-  if (w != words.end()) {
-    v = w->second;
-    return true;
-  }
-  char* end = nullptr;
-  v = std::strtod(text.c_str(), &end);
-  return !text.empty() && end && *end == '\0' && std::isfinite(v);
-}
-
 bool isParamName(const std::string& key) {
   const auto& names = paramNames();
   return std::find(names.begin(), names.end(), key) != names.end();
@@ -49,16 +34,7 @@ bool paramsForMode(const std::string& mode, Params& params) {
 
 bool setParam(Params& params, const std::string& key, const std::string& value,
               std::string& error) {
-  if (!isParamName(key)) {
-    error = "unknown parameter '" + key + "'";
-    return false;
-  }
-  double v = 0;
-  if (!parseValue(value, v)) {
-    error = "invalid value '" + value + "' for parameter '" + key + "'";
-    return false;
-  }
-  return rgbd_lane_detector::setParam(params, key, v);
+  return setParamText(params, key, value, &error);
 }
 
 bool loadParamsYaml(const std::string& path, Params& params, std::string& error,
