@@ -240,6 +240,7 @@ int main(int argc, char** argv) {
         tools::regionPoints(f.depth, f.depth_scale, f.intrinsics,
                             tools::roadCheckRegion(f.depth.size(), f.intrinsics), 40.0, region);
       for (size_t m = 0; m < modes.size(); ++m) {
+        if (reader->independentFrames()) detectors[m]->reset();
         detectors[m]->detect(f.toFrame(), r);
         const tools::Detection det = tools::detectionFromResult(r);
         const bool reported = det.plane_valid || det.left_reported || det.right_reported;

@@ -143,6 +143,7 @@ int main(int argc, char** argv) {
   cv::Mat overlay;
   tools::ProgressBar progress(std::string("run ") + reader->kind(), reader->size(), !quiet);
   while (reader->next(frame)) {
+    if (reader->independentFrames()) detector.reset();  // snapshots, not a drive
     detector.detect(frame.toFrame(), result);
     ++frames;
     std::string line;

@@ -44,6 +44,9 @@ class FileSequenceReader : public DatasetReader {
   const char* kind() const override { return kind_; }
   int size() const override { return static_cast<int>(entries_.size()); }
   std::string groundTruthPath() const override { return gt_; }
+  bool independentFrames() const override {
+    return std::string(kind_) == "kitti" || std::string(kind_) == "tum_frames";
+  }
 
   bool next(DatasetFrame& f) override {
     if (pos_ >= entries_.size()) return false;

@@ -63,6 +63,9 @@ class DatasetReader {
   virtual bool next(DatasetFrame& frame) = 0;
   /// Lane ground truth file of the dataset (SYNTHIA GT/LANES), or empty.
   virtual std::string groundTruthPath() const { return std::string(); }
+  /// True when the frames are unrelated snapshots (the KITTI and TUM frame sets), not a drive:
+  /// the detector's carried state (adapted templates, lane model) must be reset between them.
+  virtual bool independentFrames() const { return false; }
   const std::string& error() const { return error_; }
 
  protected:
