@@ -5,15 +5,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <exception>
 
-#include <boost/bind/bind.hpp>
-#include <boost/make_shared.hpp>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2/exceptions.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <visualization_msgs/MarkerArray.h>
+#include <boost/bind/bind.hpp>
+#include <boost/make_shared.hpp>
 
 #include <rgbd_lane_detector/LaneMarkings.h>
 #include <rgbd_lane_detector/LanePlane.h>
@@ -29,17 +30,25 @@ using namespace boost::placeholders;
 namespace conv = conversions;
 
 constexpr double kThrottle = 5.0;  // s between repeated per-frame warnings / errors
+// processFrame's outcome for a frame synchronised after the last output subscriber left
+constexpr char kSkippedFrame[] = "skipped: no output subscriber";
+constexpr char kOtherReasons[] = "other reasons";  // drop-reason table full
 
 }  // namespace
 
-LaneDetectorNodelet::~LaneDetectorNodelet() { diagnostics_timer_.stop(); }
+LaneDetectorNodelet::~LaneDetectorNodelet() {
+  diagnostics_timer_.stop();
+}
 
 void LaneDetectorNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   it_ = std::make_shared<image_transport::ImageTransport>(nh);
 
-  // Synchronised inputs; the subscriptions themselves are made in connectCb.
+  // Synchronised inputs; the subscriptions themselves are made in connectCb. Every colour
+  // frame is counted before the synchroniser sees it (callbacks run in registration order).
+  sub_colour_.registerCallback(boost::function<void(const sensor_msgs::ImageConstPtr&)>(
+      boost::bind(&LaneDetectorNodelet::colourReceived, this, _1)));
   pnh.param("queue_size", queue_size_, 5);
   queue_size_ = std::max(1, queue_size_);
   bool approximate_sync = true;
@@ -48,12 +57,14 @@ void LaneDetectorNodelet::onInit() {
     approximate_sync_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
         ApproximatePolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
     approximate_sync_->setReset(true);  // sim time jumping back (rosbag loop) clears the queues
-    approximate_sync_->registerCallback(boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+    approximate_sync_->registerCallback(
+        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
   } else {
-    exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(ExactPolicy(queue_size_), sub_colour_,
-                                                                     sub_depth_, sub_info_));
+    exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(
+        ExactPolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
     exact_sync_->setReset(true);
-    exact_sync_->registerCallback(boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+    exact_sync_->registerCallback(
+        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
   }
 
   // tf: only when an output frame or an up frame is requested.
@@ -88,7 +99,8 @@ void LaneDetectorNodelet::onInit() {
   double max_delay = 1.0;
   pnh.param("diagnostic_max_delay", max_delay, 1.0);
   rate_diagnostic_.reset(new diagnostic_updater::TopicDiagnostic(
-      "output rate", *updater_, diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.1, 10),
+      "output rate", *updater_,
+      diagnostic_updater::FrequencyStatusParam(&min_rate_, &max_rate_, 0.1, 10),
       diagnostic_updater::TimeStampStatusParam(-1.0, max_delay)));
   updater_->add("processing", this, &LaneDetectorNodelet::processingDiagnostics);
   diagnostics_timer_ = nh.createTimer(ros::Duration(std::max(0.05, updater_->getPeriod())),
@@ -97,12 +109,14 @@ void LaneDetectorNodelet::onInit() {
   // Outputs. Advertise under the connect mutex so that connectCb, which may run as soon as
   // the first publisher exists, never sees the others half-assigned (as image_proc does).
   ros::SubscriberStatusCallback connect_cb = boost::bind(&LaneDetectorNodelet::connectCb, this);
-  image_transport::SubscriberStatusCallback image_connect_cb = boost::bind(&LaneDetectorNodelet::connectCb, this);
+  image_transport::SubscriberStatusCallback image_connect_cb =
+      boost::bind(&LaneDetectorNodelet::connectCb, this);
   std::lock_guard<std::mutex> lock(connect_mutex_);
   pub_plane_ = nh.advertise<LanePlane>("lane_plane", 5, connect_cb, connect_cb);
   pub_markings_ = nh.advertise<LaneMarkings>("lane_markings", 5, connect_cb, connect_cb);
   pub_points_ = nh.advertise<sensor_msgs::PointCloud2>("lane_points", 5, connect_cb, connect_cb);
-  pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("lane_visualization", 5, connect_cb, connect_cb);
+  pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("lane_visualization", 5, connect_cb,
+                                                               connect_cb);
   pub_left_ = it_->advertise("response/left", 1, image_connect_cb, image_connect_cb);
   pub_right_ = it_->advertise("response/right", 1, image_connect_cb, image_connect_cb);
   pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
@@ -138,9 +152,9 @@ void LaneDetectorNodelet::readInitialConfig(ros::NodeHandle& pnh) {
     param->toMessage(other_value, other);
     if (!(preset_value == other_value)) overridden += " " + param->name;
   }
-  NODELET_INFO("Mode '%s': preset values for the parameters not given%s%s", mode.c_str(),
-               overridden.empty() ? "" : "; given explicitly, overriding the preset:",
-               overridden.c_str());
+  NODELET_INFO(
+      "Mode '%s': preset values for the parameters not given%s%s", mode.c_str(),
+      overridden.empty() ? "" : "; given explicitly, overriding the preset:", overridden.c_str());
 }
 
 void LaneDetectorNodelet::connectCb() {
@@ -155,11 +169,15 @@ void LaneDetectorNodelet::connectCb() {
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     // transport hints from ~image_transport and ~depth_image_transport (e.g. compressedDepth)
-    const image_transport::TransportHints colour_hints("raw", ros::TransportHints(), pnh, "image_transport");
-    const image_transport::TransportHints depth_hints("raw", ros::TransportHints(), pnh, "depth_image_transport");
+    const image_transport::TransportHints colour_hints("raw", ros::TransportHints(), pnh,
+                                                       "image_transport");
+    const image_transport::TransportHints depth_hints("raw", ros::TransportHints(), pnh,
+                                                      "depth_image_transport");
     sub_colour_.subscribe(*it_, "rgb/image_rect_color", queue_size_, colour_hints);
     sub_depth_.subscribe(*it_, "depth_registered/image_rect", queue_size_, depth_hints);
     sub_info_.subscribe(nh, "rgb/camera_info", queue_size_);
+    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
+    stats_.seq_restart = true;  // seq gaps across an unsubscribed period are not losses
   }
 }
 
@@ -167,8 +185,9 @@ void LaneDetectorNodelet::configCallback(LaneDetectorConfig& config, uint32_t /*
   std::lock_guard<std::mutex> lock(params_mutex_);
   Params p = params_;  // keeps the non-reconfigurable fields (up axis)
   if (conv::configToParams(config, p) != 0)
-    NODELET_ERROR_ONCE("Some dynamic_reconfigure parameters have no core Params field (cfg and "
-                       "params_io.h disagree): they are ignored");
+    NODELET_ERROR_ONCE(
+        "Some dynamic_reconfigure parameters have no core Params field (cfg and "
+        "params_io.h disagree): they are ignored");
   p = sanitize(p);
   conv::paramsToConfig(p, config);  // show the repaired values (odd windows...) in the GUI
   params_ = p;
@@ -202,21 +221,23 @@ bool LaneDetectorNodelet::updateDetectorParams(const std::string& optical_frame)
   if (!changed) p = frame_params_;
   if (!up_frame_.empty()) {
     try {
-      const Eigen::Vector3d up = conv::upAxisFromTransform(tf2::transformToEigen(
-          tf_buffer_->lookupTransform(optical_frame, up_frame_, ros::Time(0), ros::Duration(tf_timeout_))));
+      const Eigen::Vector3d up =
+          conv::upAxisFromTransform(tf2::transformToEigen(tf_buffer_->lookupTransform(
+              optical_frame, up_frame_, ros::Time(0), ros::Duration(tf_timeout_))));
       p.up_x = up.x();
       p.up_y = up.y();
       p.up_z = up.z();
     } catch (const tf2::TransformException& e) {
-      NODELET_WARN_THROTTLE(kThrottle, "Skipping frame: no transform from up_frame '%s' to '%s': %s",
+      NODELET_WARN_THROTTLE(kThrottle,
+                            "Skipping frame: no transform from up_frame '%s' to '%s': %s",
                             up_frame_.c_str(), optical_frame.c_str(), e.what());
       return false;
     }
   }
   const Params& q = frame_params_;
   constexpr double kUpTolerance = 1e-6;  // a static mount gives the same axis every frame
-  if (changed || std::fabs(p.up_x - q.up_x) > kUpTolerance || std::fabs(p.up_y - q.up_y) > kUpTolerance ||
-      std::fabs(p.up_z - q.up_z) > kUpTolerance) {
+  if (changed || std::fabs(p.up_x - q.up_x) > kUpTolerance ||
+      std::fabs(p.up_y - q.up_y) > kUpTolerance || std::fabs(p.up_z - q.up_z) > kUpTolerance) {
     detector_.setParams(p);
     frame_params_ = detector_.params();
   }
@@ -231,11 +252,12 @@ bool LaneDetectorNodelet::outputTransform(const std_msgs::Header& header, Eigen:
     return true;
   }
   try {
-    T = tf2::transformToEigen(
-        tf_buffer_->lookupTransform(target_frame_, header.frame_id, header.stamp, ros::Duration(tf_timeout_)));
+    T = tf2::transformToEigen(tf_buffer_->lookupTransform(
+        target_frame_, header.frame_id, header.stamp, ros::Duration(tf_timeout_)));
   } catch (const tf2::TransformException& e) {
-    NODELET_WARN_THROTTLE(kThrottle, "Skipping frame: no transform from '%s' to target_frame '%s' at %.3f: %s",
-                          header.frame_id.c_str(), target_frame_.c_str(), header.stamp.toSec(), e.what());
+    NODELET_WARN_THROTTLE(
+        kThrottle, "Skipping frame: no transform from '%s' to target_frame '%s' at %.3f: %s",
+        header.frame_id.c_str(), target_frame_.c_str(), header.stamp.toSec(), e.what());
     return false;
   }
   frame_id = target_frame_;
@@ -246,34 +268,31 @@ void LaneDetectorNodelet::frameCallback(const sensor_msgs::ImageConstPtr& colour
                                         const sensor_msgs::ImageConstPtr& depth,
                                         const sensor_msgs::CameraInfoConstPtr& info) {
   const Clock::time_point start = Clock::now();
-  const Wanted wanted = wantedOutputs();
-  if (!wanted.any()) return;  // the last subscriber left while this frame was queued
-  const std_msgs::Header& image_header = colour->header;
+  const char* outcome = processFrame(*colour, *depth, *info);
+  accountFrame(*colour, outcome,
+               std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+}
 
-  if (!updateDetectorParams(image_header.frame_id)) {
-    countDrop("no transform from up_frame");
-    return;
-  }
+const char* LaneDetectorNodelet::processFrame(const Image& colour, const Image& depth,
+                                              const CameraInfo& info) {
+  const Wanted wanted = wantedOutputs();
+  if (!wanted.any()) return kSkippedFrame;  // the last subscriber left while this frame was queued
+  const std_msgs::Header& image_header = colour.header;
+
+  if (!updateDetectorParams(image_header.frame_id)) return "no transform from up_frame";
   Frame frame;
-  if (const char* problem = conv::frameFromMsgs(*colour, *depth, *info, frame, depth_swap_)) {
-    dropFrame(problem, *colour, *depth);
-    return;
-  }
+  if (const char* problem = conv::frameFromMsgs(colour, depth, info, frame, depth_swap_))
+    return dropFrame(problem, colour, depth);
   const Status valid = detector_.validate(frame);
-  if (valid != Status::kOk) {
-    dropFrame(statusMessage(valid), *colour, *depth);
-    return;
-  }
+  if (valid != Status::kOk) return dropFrame(statusMessage(valid), colour, depth);
   std_msgs::Header out_header = image_header;
   Eigen::Isometry3d T;
-  if (!outputTransform(image_header, T, out_header.frame_id)) {
-    countDrop("no transform to target_frame");
-    return;
-  }
+  if (!outputTransform(image_header, T, out_header.frame_id)) return "no transform to target_frame";
 
   if (!last_stamp_.isZero() && image_header.stamp < last_stamp_) {
-    NODELET_INFO_THROTTLE(1.0, "Input stamps went back %.3f s (rosbag loop?): resetting the detector state",
-                          (last_stamp_ - image_header.stamp).toSec());
+    NODELET_INFO_THROTTLE(
+        1.0, "Input stamps went back %.3f s (rosbag loop?): resetting the detector state",
+        (last_stamp_ - image_header.stamp).toSec());
     detector_.reset();
   }
   last_stamp_ = image_header.stamp;
@@ -283,28 +302,18 @@ void LaneDetectorNodelet::frameCallback(const sensor_msgs::ImageConstPtr& colour
     status = detector_.detect(frame, result_);
   } catch (const std::exception& e) {  // never expected: the frame was validated
     NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: detector failed: %s", e.what());
-    countDrop("detector exception");
-    return;
+    return "detector exception";
   }
-  if (status != Status::kOk) {
-    dropFrame(statusMessage(status), *colour, *depth);
-    return;
-  }
+  if (status != Status::kOk) return dropFrame(statusMessage(status), colour, depth);
   publishOutputs(wanted, frame, image_header, out_header, T);
   rate_diagnostic_->tick(image_header.stamp);
-
-  const double callback_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  ++stats_.processed;
-  ++stats_.window_count;
-  stats_.window_callback_ms += callback_ms;
-  stats_.window_detect_ms += result_.timings.total;
-  stats_.window_max_ms = std::max(stats_.window_max_ms, callback_ms);
+  return nullptr;
 }
 
 void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& frame,
                                          const std_msgs::Header& image_header,
-                                         const std_msgs::Header& out_header, const Eigen::Isometry3d& T) {
+                                         const std_msgs::Header& out_header,
+                                         const Eigen::Isometry3d& T) {
   // Messages are allocated per publish (ROS 1 shares them with intra-process subscribers).
   if (wanted.plane) {
     auto msg = boost::make_shared<LanePlane>();
@@ -354,18 +363,94 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
   }
 }
 
-void LaneDetectorNodelet::dropFrame(const char* problem, const Image& colour, const Image& depth) {
+const char* LaneDetectorNodelet::dropFrame(const char* problem, const Image& colour,
+                                           const Image& depth) {
   NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: %s [colour %s %ux%u, depth %s %ux%u]", problem,
-                         colour.encoding.c_str(), colour.width, colour.height, depth.encoding.c_str(),
-                         depth.width, depth.height);
-  countDrop(problem);
+                         colour.encoding.c_str(), colour.width, colour.height,
+                         depth.encoding.c_str(), depth.width, depth.height);
+  return problem;
 }
 
-void LaneDetectorNodelet::countDrop(const char* problem) {
+void LaneDetectorNodelet::colourReceived(const sensor_msgs::ImageConstPtr& colour) {
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  ++stats_.dropped;
-  ++stats_.window_dropped;
-  stats_.last_drop = problem;
+  Stats& s = stats_;
+  ++s.received;
+  // Frames lost before the nodelet (transport, full subscriber queue): gaps in header.seq,
+  // which publishers number per message sent. A new run starts at each (re)subscription; a seq
+  // that does not increase (restarted publisher, publishers leaving seq at 0) counts nothing.
+  const uint32_t seq = colour->header.seq;
+  if (!s.seq_restart && seq > s.last_seq) s.lost_before += seq - s.last_seq - 1;
+  s.seq_restart = false;
+  s.last_seq = seq;
+  // Pending until the synchroniser emits it or a later frame. The synchroniser holds at most
+  // queue_size colour frames, so a frame evicted from the full ring was dropped there.
+  if (s.pending_count == kPendingCapacity) {
+    s.pending_head = (s.pending_head + 1) % kPendingCapacity;
+    --s.pending_count;
+    ++s.not_synchronised;
+    ++s.ring_overflow;
+  }
+  PendingFrame& p = s.pending[(s.pending_head + s.pending_count) % kPendingCapacity];
+  p.msg = colour.get();
+  p.stamp = colour->header.stamp;
+  ++s.pending_count;
+}
+
+void LaneDetectorNodelet::accountFrame(const Image& colour, const char* outcome,
+                                       double callback_ms) {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  Stats& s = stats_;
+  ++s.synchronised;
+  // The synchronisers emit each topic's messages in arrival order and discard the ones they
+  // pass over: every pending frame received before this one was not synchronised.
+  size_t i = 0;
+  const auto at = [&s](size_t k) -> PendingFrame& {
+    return s.pending[(s.pending_head + k) % kPendingCapacity];
+  };
+  while (i < s.pending_count && !(at(i).msg == &colour && at(i).stamp == colour.header.stamp)) ++i;
+  if (i == s.pending_count) {  // same stamp, other message object (never expected)
+    i = 0;
+    while (i < s.pending_count && at(i).stamp != colour.header.stamp) ++i;
+  }
+  if (i < s.pending_count) {
+    s.not_synchronised += i;
+    s.pending_head = (s.pending_head + i + 1) % kPendingCapacity;
+    s.pending_count -= i + 1;
+  } else if (s.not_synchronised > 0) {  // already counted as passed over (ring overflow, ExactTime
+    --s.not_synchronised;               // emitting an older stamp after a newer one)
+    ++s.late_synchronised;
+  } else {
+    ++s.untracked;
+  }
+
+  if (outcome == nullptr) {
+    ++s.processed;
+    ++s.window_count;
+    s.window_callback_ms += callback_ms;
+    s.window_detect_ms += result_.timings.total;
+    s.window_max_ms = std::max(s.window_max_ms, callback_ms);
+    return;
+  }
+  if (outcome == kSkippedFrame) {
+    ++s.skipped;
+    return;
+  }
+  ++s.dropped;
+  ++s.window_dropped;
+  s.last_drop = outcome;
+  DropCount* slot = nullptr;
+  for (DropCount& d : s.drop_counts) {
+    if (d.reason == nullptr || d.reason == outcome || std::strcmp(d.reason, outcome) == 0) {
+      slot = &d;
+      break;
+    }
+  }
+  if (slot == nullptr || (slot == &s.drop_counts[kMaxDropReasons - 1] && slot->reason != outcome)) {
+    slot = &s.drop_counts[kMaxDropReasons - 1];  // table full: the last slot takes the rest
+    outcome = kOtherReasons;
+  }
+  slot->reason = outcome;
+  ++slot->count;
 }
 
 void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -385,10 +470,28 @@ void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticSt
   else if (s.window_count == 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Waiting for frames");
   else
-    stat.summaryf(diagnostic_msgs::DiagnosticStatus::OK, "%.1f ms per frame", s.window_callback_ms / n);
+    stat.summaryf(diagnostic_msgs::DiagnosticStatus::OK, "%.1f ms per frame",
+                  s.window_callback_ms / n);
+  // Cumulative accounting of every colour frame received (docs/NODELET.md):
+  // received == processed + dropped + skipped + not synchronised + waiting.
+  const uint64_t waiting = s.pending_count;
   stat.add("Inputs subscribed", subscribed);
+  stat.add("Frames received", s.received);
+  stat.add("Frames synchronised", s.synchronised);
   stat.add("Frames processed", s.processed);
   stat.add("Frames dropped", s.dropped);
+  stat.add("Frames skipped (no subscriber)", s.skipped);
+  stat.add("Frames not synchronised", s.not_synchronised);
+  stat.add("Frames waiting", waiting);
+  stat.add("Frames unaccounted", static_cast<int64_t>(s.received) -
+                                     static_cast<int64_t>(s.processed + s.dropped + s.skipped +
+                                                          s.not_synchronised + waiting));
+  stat.add("Frames lost before the nodelet", s.lost_before);
+  stat.add("Pending ring overflows", s.ring_overflow);
+  stat.add("Frames synchronised late", s.late_synchronised);
+  if (s.untracked > 0) stat.add("Frames synchronised untracked", s.untracked);
+  for (const DropCount& d : s.drop_counts)
+    if (d.reason != nullptr) stat.add(std::string("Dropped: ") + d.reason, d.count);
   stat.add("Last drop reason", s.last_drop);
   stat.addf("Mean processing time (ms)", "%.3f", s.window_callback_ms / n);
   stat.addf("Mean detector time (ms)", "%.3f", s.window_detect_ms / n);

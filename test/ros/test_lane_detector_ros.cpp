@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <functional>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -21,7 +22,6 @@
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/Reconfigure.h>
-#include <opencv2/imgproc.hpp>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -31,6 +31,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <visualization_msgs/MarkerArray.h>
+#include <opencv2/imgproc.hpp>
 
 #include <rgbd_lane_detector/LaneDetectorConfig.h>
 #include <rgbd_lane_detector/LaneMarkings.h>
@@ -41,9 +42,9 @@
 namespace rgbd_lane_detector {
 namespace {
 
-constexpr double kTimeout = 60.0;      // s per condition: generous for a loaded 2-core machine
-constexpr double kTickPeriod = 0.2;    // s between frames published while waiting
-constexpr double kPaceTimeout = 1.5;   // s to wait for the answer to a frame before the next
+constexpr double kTimeout = 60.0;     // s per condition: generous for a loaded 2-core machine
+constexpr double kTickPeriod = 0.2;   // s between frames published while waiting
+constexpr double kPaceTimeout = 1.5;  // s to wait for the answer to a frame before the next
 const char* const kOpticalFrame = "camera_color_optical_frame";
 
 std::mutex g_mutex;  // guards every collector
@@ -104,8 +105,8 @@ class Collector {
 /// Wait until done() holds, calling tick() every kTickPeriod (e.g. to publish a frame).
 /// (done may return anything testable as a bool, e.g. a found message.)
 template <class Done>
-bool waitFor(const Done& done, const std::function<void()>& tick = nullptr, double timeout = kTimeout,
-             double tick_period = kTickPeriod) {
+bool waitFor(const Done& done, const std::function<void()>& tick = nullptr,
+             double timeout = kTimeout, double tick_period = kTickPeriod) {
   using Clock = std::chrono::steady_clock;
   const auto seconds = [](double s) {
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
@@ -185,6 +186,7 @@ class Harness {
     pub_info.publish(info);
     pub_depth.publish(depth);
     pub_colour.publish(colour);
+    ++colour_published;
     last_published = stamp;
     last_publish_time = std::chrono::steady_clock::now();
     return stamp;
@@ -242,7 +244,8 @@ class Harness {
 
   bool logContains(uint8_t level, const std::string& a, const std::string& b = "") const {
     return static_cast<bool>(rosout.find([&](const rosgraph_msgs::Log& l) {
-      return l.level == level && l.msg.find(a) != std::string::npos && l.msg.find(b) != std::string::npos;
+      return l.level == level && l.msg.find(a) != std::string::npos &&
+             l.msg.find(b) != std::string::npos;
     }));
   }
 
@@ -256,8 +259,9 @@ class Harness {
   Collector<diagnostic_msgs::DiagnosticArray> diagnostics;
   tf2_ros::StaticTransformBroadcaster broadcaster;
   bool tf_sent = false;
-  ros::Time last_stamp;      ///< latest stamp handed out by nextStamp()
-  ros::Time last_published;  ///< stamp of the last frame published
+  ros::Time last_stamp;           ///< latest stamp handed out by nextStamp()
+  ros::Time last_published;       ///< stamp of the last frame published
+  uint64_t colour_published = 0;  ///< colour images published (every publish*)
   std::chrono::steady_clock::time_point last_publish_time;
 
  private:
@@ -305,7 +309,8 @@ void expectPlaneNearTruth(const LanePlane& plane) {
 
 // Reconfigure one parameter through the set_parameters service; returns the applied config.
 template <class P>
-bool reconfigure(const std::string& name, decltype(P::value) value, dynamic_reconfigure::Config* applied,
+bool reconfigure(const std::string& name, decltype(P::value) value,
+                 dynamic_reconfigure::Config* applied,
                  std::vector<P> dynamic_reconfigure::Config::*field) {
   const std::string service = g->detector + "/set_parameters";
   if (!ros::service::waitForService(service, ros::Duration(kTimeout))) return false;
@@ -319,29 +324,35 @@ bool reconfigure(const std::string& name, decltype(P::value) value, dynamic_reco
   return true;
 }
 bool setBool(const std::string& name, bool v, dynamic_reconfigure::Config* out = nullptr) {
-  return reconfigure<dynamic_reconfigure::BoolParameter>(name, v, out, &dynamic_reconfigure::Config::bools);
+  return reconfigure<dynamic_reconfigure::BoolParameter>(name, v, out,
+                                                         &dynamic_reconfigure::Config::bools);
 }
 bool setDouble(const std::string& name, double v, dynamic_reconfigure::Config* out = nullptr) {
-  return reconfigure<dynamic_reconfigure::DoubleParameter>(name, v, out, &dynamic_reconfigure::Config::doubles);
+  return reconfigure<dynamic_reconfigure::DoubleParameter>(name, v, out,
+                                                           &dynamic_reconfigure::Config::doubles);
 }
 bool setInt(const std::string& name, int v, dynamic_reconfigure::Config* out = nullptr) {
-  return reconfigure<dynamic_reconfigure::IntParameter>(name, v, out, &dynamic_reconfigure::Config::ints);
+  return reconfigure<dynamic_reconfigure::IntParameter>(name, v, out,
+                                                        &dynamic_reconfigure::Config::ints);
 }
 
 // ---------------------------------------------------------------------------------------------
 // Declared first: it needs the time before the static transform is broadcast.
 TEST(LaneDetectorRos, MissingTransformSkipsFramesWithWarning) {
-  if (g->target_frame.empty() || g->tf_sent) GTEST_SKIP() << "needs ~target_frame and no transform yet";
+  if (g->target_frame.empty() || g->tf_sent)
+    GTEST_SKIP() << "needs ~target_frame and no transform yet";
   Outputs out;
   out.plane.subscribe(g->nh, "lane_plane");
-  ASSERT_TRUE(waitFor([] { return g->logContains(rosgraph_msgs::Log::WARN, "Skipping frame", "transform"); },
-                      [&] { g->publishPaced(out.plane); }))
+  ASSERT_TRUE(waitFor(
+      [] { return g->logContains(rosgraph_msgs::Log::WARN, "Skipping frame", "transform"); },
+      [&] { g->publishPaced(out.plane); }))
       << "no throttled warning about the missing transform";
   EXPECT_EQ(out.plane.size(), 0u) << "a frame was published without its transform";
   g->broadcastTransform();
   const ros::Time after = g->last_stamp;
-  EXPECT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > after; }); },
-                      [&] { g->publishPaced(out.plane); }))
+  EXPECT_TRUE(waitFor(
+      [&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > after; }); },
+      [&] { g->publishPaced(out.plane); }))
       << "frames still skipped once the transform exists";
 }
 
@@ -373,18 +384,24 @@ TEST(LaneDetectorRos, LazySubscription) {
   ASSERT_TRUE(waitFor([] {
     ros::master::V_TopicInfo topics;
     ros::master::getTopics(topics);
-    return std::any_of(topics.begin(), topics.end(),
-                       [](const ros::master::TopicInfo& t) { return t.name == g->nh.resolveName("lane_plane"); });
+    return std::any_of(topics.begin(), topics.end(), [](const ros::master::TopicInfo& t) {
+      return t.name == g->nh.resolveName("lane_plane");
+    });
   })) << "detector never advertised lane_plane";
-  ASSERT_TRUE(waitFor([] { return inputsSubscribed(false); })) << "inputs subscribed with no output subscriber";
+  ASSERT_TRUE(waitFor([] { return inputsSubscribed(false); }))
+      << "inputs subscribed with no output subscriber";
 
   Outputs out;
   const std::vector<std::pair<std::string, std::function<void(bool)>>> outputs = {
-      {"lane_plane", [&](bool on) { on ? out.plane.subscribe(g->nh, "lane_plane") : out.plane.shutdown(); }},
-      {"lane_points", [&](bool on) { on ? out.points.subscribe(g->nh, "lane_points") : out.points.shutdown(); }},
-      {"debug_image", [&](bool on) { on ? out.debug.subscribe(g->nh, "debug_image") : out.debug.shutdown(); }},
-      {"response/geometric",
-       [&](bool on) { on ? out.geometric.subscribe(g->nh, "response/geometric") : out.geometric.shutdown(); }}};
+      {"lane_plane",
+       [&](bool on) { on ? out.plane.subscribe(g->nh, "lane_plane") : out.plane.shutdown(); }},
+      {"lane_points",
+       [&](bool on) { on ? out.points.subscribe(g->nh, "lane_points") : out.points.shutdown(); }},
+      {"debug_image",
+       [&](bool on) { on ? out.debug.subscribe(g->nh, "debug_image") : out.debug.shutdown(); }},
+      {"response/geometric", [&](bool on) {
+         on ? out.geometric.subscribe(g->nh, "response/geometric") : out.geometric.shutdown();
+       }}};
   for (const auto& output : outputs) {
     output.second(true);
     EXPECT_TRUE(waitFor([] { return inputsSubscribed(true); }))
@@ -403,28 +420,32 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
   ros::Time stamp;
   auto complete = [&] {
     auto plane = out.plane.find([&](const LanePlane& m) {
-      return m.valid && out.markings.withStamp(m.header.stamp) && out.points.withStamp(m.header.stamp) &&
-             out.markers.withStamp(m.header.stamp) && out.left.withStamp(m.header.stamp) &&
-             out.right.withStamp(m.header.stamp) && out.geometric.withStamp(m.header.stamp) &&
-             out.debug.withStamp(m.header.stamp);
+      return m.valid && out.markings.withStamp(m.header.stamp) &&
+             out.points.withStamp(m.header.stamp) && out.markers.withStamp(m.header.stamp) &&
+             out.left.withStamp(m.header.stamp) && out.right.withStamp(m.header.stamp) &&
+             out.geometric.withStamp(m.header.stamp) && out.debug.withStamp(m.header.stamp);
     });
     if (plane) stamp = plane->header.stamp;
     return static_cast<bool>(plane);
   };
-  ASSERT_TRUE(waitFor(complete, [&] { g->publishPaced(out.plane); })) << "not every output arrived with a valid plane";
+  ASSERT_TRUE(waitFor(complete, [&] { g->publishPaced(out.plane); }))
+      << "not every output arrived with a valid plane";
 
   const std::string frame = g->outputFrame();
   Eigen::Vector3d n_true;
   double d_true;
   g->planeTruth(n_true, d_true);
-  auto planeDistance = [&](double x, double y, double z) { return n_true.dot(Eigen::Vector3d(x, y, z)) + d_true; };
+  auto planeDistance = [&](double x, double y, double z) {
+    return n_true.dot(Eigen::Vector3d(x, y, z)) + d_true;
+  };
 
   // lane_plane
   const auto plane = out.plane.withStamp(stamp);
   EXPECT_EQ(plane->header.frame_id, frame);
   expectPlaneNearTruth(*plane);
   EXPECT_FALSE(plane->support_points.empty());
-  for (const auto& p : plane->support_points) EXPECT_LT(std::fabs(planeDistance(p.x, p.y, p.z)), 0.05);
+  for (const auto& p : plane->support_points)
+    EXPECT_LT(std::fabs(planeDistance(p.x, p.y, p.z)), 0.05);
   EXPECT_GT(plane->left_score, 0.f);
   EXPECT_GT(plane->right_score, 0.f);
 
@@ -445,7 +466,8 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
   EXPECT_EQ(cloud->header.frame_id, frame);
   EXPECT_EQ(cloud->height, 1u);
   ASSERT_EQ(cloud->width, markings->left.size() + markings->right.size());
-  sensor_msgs::PointCloud2ConstIterator<float> x(*cloud, "x"), y(*cloud, "y"), z(*cloud, "z"), s(*cloud, "score");
+  sensor_msgs::PointCloud2ConstIterator<float> x(*cloud, "x"), y(*cloud, "y"), z(*cloud, "z"),
+      s(*cloud, "score");
   sensor_msgs::PointCloud2ConstIterator<uint8_t> side(*cloud, "side");
   size_t lefts = 0;
   for (uint32_t i = 0; i < cloud->width; ++i, ++x, ++y, ++z, ++s, ++side) {
@@ -504,10 +526,15 @@ TEST(LaneDetectorRos, EveryColourEncodingAndFloatDepth) {
                                       c.float_depth ? "32FC1" : "16UC1", g->scene.K);
     const ros::Time first = g->nextStamp();
     g->publish(in, first);
-    ASSERT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp >= first && m.valid; }); },
-                        [&] { g->publishPaced(out.plane, &in); }))
+    ASSERT_TRUE(waitFor(
+        [&] {
+          return out.plane.find(
+              [&](const LanePlane& m) { return m.header.stamp >= first && m.valid; });
+        },
+        [&] { g->publishPaced(out.plane, &in); }))
         << c.encoding << (c.float_depth ? " + 32FC1" : " + 16UC1") << ": no valid plane";
-    expectPlaneNearTruth(*out.plane.find([&](const LanePlane& m) { return m.header.stamp >= first && m.valid; }));
+    expectPlaneNearTruth(
+        *out.plane.find([&](const LanePlane& m) { return m.header.stamp >= first && m.valid; }));
   }
 }
 
@@ -527,14 +554,16 @@ TEST(LaneDetectorRos, BadInputIsDroppedAndTheNodeSurvives) {
   };
   std::vector<Case> cases;
   const InputSet& good = g->good;
-  auto add = [&](const std::string& name, bool processed, const std::function<void(InputSet&)>& edit) {
+  auto add = [&](const std::string& name, bool processed,
+                 const std::function<void(InputSet&)>& edit) {
     Case c{name, good, processed};
     edit(c.in);
     cases.push_back(c);
   };
   add("wrong colour encoding", false, [](InputSet& s) { s.colour.encoding = "rgb16"; });
   add("wrong depth encoding", false, [](InputSet& s) { s.depth.encoding = "8UC1"; });
-  add("truncated colour data", false, [](InputSet& s) { s.colour.data.resize(s.colour.data.size() / 2); });
+  add("truncated colour data", false,
+      [](InputSet& s) { s.colour.data.resize(s.colour.data.size() / 2); });
   add("depth step too small", false, [](InputSet& s) { s.depth.step = s.depth.width; });
   add("colour / depth size mismatch", false, [&](InputSet& s) {
     cv::Mat half;
@@ -560,11 +589,14 @@ TEST(LaneDetectorRos, BadInputIsDroppedAndTheNodeSurvives) {
     s = g->makeInputs(g->bgr(crop).clone(), "bgr8", g->depth_mm(crop).clone(), "16UC1", K);
   });
   add("all NaN depth", true, [&](InputSet& s) {
-    const cv::Mat nan(g->depth_m.size(), CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    const cv::Mat nan(g->depth_m.size(), CV_32FC1,
+                      cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
     s.depth = g->makeInputs(g->bgr, "bgr8", nan, "32FC1", g->scene.K).depth;
   });
   add("all zero depth", true, [&](InputSet& s) {
-    s.depth = g->makeInputs(g->bgr, "bgr8", cv::Mat::zeros(g->depth_mm.size(), CV_16UC1), "16UC1", g->scene.K).depth;
+    s.depth = g->makeInputs(g->bgr, "bgr8", cv::Mat::zeros(g->depth_mm.size(), CV_16UC1), "16UC1",
+                            g->scene.K)
+                  .depth;
   });
   add("huge depth", true, [&](InputSet& s) {
     const cv::Mat huge(g->depth_m.size(), CV_32FC1, cv::Scalar(1e30f));
@@ -574,8 +606,12 @@ TEST(LaneDetectorRos, BadInputIsDroppedAndTheNodeSurvives) {
   for (const Case& c : cases) {
     const ros::Time bad = g->publish(c.in);
     // the node is alive and still detects: a valid plane for a later good frame
-    ASSERT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > bad && m.valid; }); },
-                        [&] { g->publishPaced(out.plane); }))
+    ASSERT_TRUE(waitFor(
+        [&] {
+          return out.plane.find(
+              [&](const LanePlane& m) { return m.header.stamp > bad && m.valid; });
+        },
+        [&] { g->publishPaced(out.plane); }))
         << c.name << ": no valid plane afterwards";
     const auto at_bad = out.plane.withStamp(bad);
     if (c.processed) {
@@ -590,14 +626,17 @@ TEST(LaneDetectorRos, BadInputIsDroppedAndTheNodeSurvives) {
   }
   // the drops are logged (first one; later ones are throttled) and counted in the diagnostics
   EXPECT_TRUE(waitFor([] { return g->logContains(rosgraph_msgs::Log::ERROR, "Dropping frame"); }));
-  EXPECT_TRUE(waitFor([] {
-    return static_cast<bool>(g->diagnostics.find([](const diagnostic_msgs::DiagnosticArray& a) {
-      for (const auto& s : a.status)
-        for (const auto& kv : s.values)
-          if (kv.key == "Frames dropped" && std::stoul(kv.value) >= 8) return true;
-      return false;
-    }));
-  }, [&] { g->publishPaced(out.plane); })) << "the diagnostics do not count the 8 dropped frames";
+  EXPECT_TRUE(waitFor(
+      [] {
+        return static_cast<bool>(g->diagnostics.find([](const diagnostic_msgs::DiagnosticArray& a) {
+          for (const auto& s : a.status)
+            for (const auto& kv : s.values)
+              if (kv.key == "Frames dropped" && std::stoul(kv.value) >= 8) return true;
+          return false;
+        }));
+      },
+      [&] { g->publishPaced(out.plane); }))
+      << "the diagnostics do not count the 8 dropped frames";
 }
 
 TEST(LaneDetectorRos, StampsGoingBackwardsResetTheDetector) {
@@ -607,12 +646,18 @@ TEST(LaneDetectorRos, StampsGoingBackwardsResetTheDetector) {
   ASSERT_TRUE(waitFor([&] { return out.plane.find([](const LanePlane& m) { return m.valid; }); },
                       [&] { g->publishPaced(out.plane); }));
   const ros::Time back = g->last_stamp - ros::Duration(30.0);  // rosbag loop
-  ASSERT_TRUE(waitFor([&] { return out.plane.withStamp(back); }, [&] { g->publish(g->good, back); }))
+  ASSERT_TRUE(
+      waitFor([&] { return out.plane.withStamp(back); }, [&] { g->publish(g->good, back); }))
       << "the frame after the jump back was not processed";
-  EXPECT_TRUE(waitFor([] { return g->logContains(rosgraph_msgs::Log::INFO, "went back", "resetting"); }));
+  EXPECT_TRUE(
+      waitFor([] { return g->logContains(rosgraph_msgs::Log::INFO, "went back", "resetting"); }));
   const ros::Time after = g->nextStamp();
-  EXPECT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp >= after && m.valid; }); },
-                      [&] { g->publishPaced(out.plane); }));
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return out.plane.find(
+            [&](const LanePlane& m) { return m.header.stamp >= after && m.valid; });
+      },
+      [&] { g->publishPaced(out.plane); }));
 }
 
 TEST(LaneDetectorRos, DynamicReconfigureAppliesFromTheNextFrame) {
@@ -628,7 +673,8 @@ TEST(LaneDetectorRos, DynamicReconfigureAppliesFromTheNextFrame) {
   auto geometricAfter = [&](const ros::Time& t) {
     return out.geometric.find([&](const sensor_msgs::Image& m) { return m.header.stamp > t; });
   };
-  ASSERT_TRUE(waitFor([&] { return geometricAfter(ros::Time(0)); }, [&] { g->publishPaced(out.plane); }));
+  ASSERT_TRUE(
+      waitFor([&] { return geometricAfter(ros::Time(0)); }, [&] { g->publishPaced(out.plane); }));
   EXPECT_GT(maxOf(*geometricAfter(ros::Time(0))), 0.0) << "G is zero with use_depth on";
 
   // use_depth off: the first frame published afterwards has an all-zero G
@@ -650,14 +696,18 @@ TEST(LaneDetectorRos, DynamicReconfigureAppliesFromTheNextFrame) {
   ASSERT_TRUE(setDouble("processing_scale", 0.5));
   t = g->last_stamp;
   ASSERT_TRUE(waitFor([&] { return leftAfter(t); }, [&] { g->publishPaced(out.plane); }));
-  EXPECT_EQ(leftAfter(t)->width, static_cast<uint32_t>(g->scene.width / 2)) << "processing_scale did not apply";
+  EXPECT_EQ(leftAfter(t)->width, static_cast<uint32_t>(g->scene.width / 2))
+      << "processing_scale did not apply";
   EXPECT_EQ(leftAfter(t)->height, static_cast<uint32_t>(g->scene.height / 2));
   ASSERT_TRUE(setDouble("processing_scale", 1.0));
   t = g->last_stamp;
   ASSERT_TRUE(waitFor([&] { return leftAfter(t); }, [&] { g->publishPaced(out.plane); }));
   EXPECT_EQ(leftAfter(t)->width, static_cast<uint32_t>(g->scene.width));
-  EXPECT_TRUE(waitFor([&] { return out.plane.find([&](const LanePlane& m) { return m.header.stamp > t && m.valid; }); },
-                      [&] { g->publishPaced(out.plane); }))
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return out.plane.find([&](const LanePlane& m) { return m.header.stamp > t && m.valid; });
+      },
+      [&] { g->publishPaced(out.plane); }))
       << "no valid plane after restoring processing_scale";
 
   // sanitised values are reported back (the FALS window is odd)
@@ -667,6 +717,142 @@ TEST(LaneDetectorRos, DynamicReconfigureAppliesFromTheNextFrame) {
     if (i.name == "normal_window") window = i.value;
   EXPECT_EQ(window, 5);
   ASSERT_TRUE(setInt("normal_window", 5));
+}
+
+/// Key/values of the detector's "processing" status in @p a (empty when absent).
+std::map<std::string, std::string> processingValues(const diagnostic_msgs::DiagnosticArray& a) {
+  std::map<std::string, std::string> v;
+  for (const auto& s : a.status)
+    if (s.name.find("processing") != std::string::npos)
+      for (const auto& kv : s.values) v[kv.key] = kv.value;
+  return v;
+}
+/// A counter of a processing status (-1 when absent); prefix: the first key starting with it.
+long long counter(const std::map<std::string, std::string>& v, const std::string& key,
+                  bool prefix = false) {
+  for (const auto& kv : v)
+    if (prefix ? kv.first.compare(0, key.size(), key) == 0 : kv.first == key)
+      return std::stoll(kv.second);
+  return -1;
+}
+/// The nodelet's accounting rule: received == processed + dropped + skipped + not synchronised +
+/// waiting, and dropped == the sum of the per-reason counts.
+::testing::AssertionResult accountingHolds(const std::map<std::string, std::string>& v) {
+  const long long received = counter(v, "Frames received"),
+                  processed = counter(v, "Frames processed"),
+                  dropped = counter(v, "Frames dropped"),
+                  skipped = counter(v, "Frames skipped (no subscriber)"),
+                  not_sync = counter(v, "Frames not synchronised"),
+                  waiting = counter(v, "Frames waiting");
+  if (std::min({received, processed, dropped, skipped, not_sync, waiting}) < 0)
+    return ::testing::AssertionFailure() << "a counter is missing from the processing status";
+  long long by_reason = 0;
+  for (const auto& kv : v)
+    if (kv.first.compare(0, 9, "Dropped: ") == 0) by_reason += std::stoll(kv.second);
+  if (received != processed + dropped + skipped + not_sync + waiting || by_reason != dropped ||
+      counter(v, "Frames unaccounted") != 0)
+    return ::testing::AssertionFailure()
+           << "received " << received << " != processed " << processed << " + dropped " << dropped
+           << " (by reason " << by_reason << ") + skipped " << skipped << " + not synchronised "
+           << not_sync << " + waiting " << waiting;
+  return ::testing::AssertionSuccess();
+}
+
+TEST(LaneDetectorRos, EveryInputFrameIsAccountedFor) {
+  g->prepare();
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  ASSERT_TRUE(waitFor([&] { return out.plane.find([](const LanePlane& m) { return m.valid; }); },
+                      [&] { g->publishPaced(out.plane); }));
+  // baseline: a report made after every frame published so far was answered
+  ASSERT_TRUE(waitFor([&] { return out.plane.withStamp(g->last_published); },
+                      [&] { g->publishPaced(out.plane); }));
+  g->diagnostics.clear();
+  std::map<std::string, std::string> base;
+  auto latest = [&](std::map<std::string, std::string>& v) {
+    std::map<std::string, std::string> last;
+    g->diagnostics.find([&](const diagnostic_msgs::DiagnosticArray& a) {
+      auto p = processingValues(a);
+      if (!p.empty()) last = p;
+      return false;
+    });
+    v = last;
+    return !v.empty();
+  };
+  ASSERT_TRUE(waitFor([&] { return latest(base); })) << "no processing diagnostics";
+  const uint64_t published_before = g->colour_published;
+  // every colour frame published reached the nodelet or is counted as lost before it (roscpp
+  // numbers header.seq per message sent: gaps are the losses)
+  auto allReceived = [&] {
+    std::map<std::string, std::string> v;
+    return latest(v) && counter(v, "Frames received") - counter(base, "Frames received") +
+                                counter(v, "Frames lost before the nodelet") -
+                                counter(base, "Frames lost before the nodelet") ==
+                            static_cast<long long>(g->colour_published - published_before);
+  };
+
+  InputSet wrong_encoding = g->good;
+  wrong_encoding.colour.encoding = "rgb16";
+  InputSet size_mismatch = g->good;
+  cv::Mat half;
+  cv::resize(g->depth_mm, half, cv::Size(), 0.5, 0.5, cv::INTER_NEAREST);
+  size_mismatch.depth = g->makeInputs(g->bgr, "bgr8", half, "16UC1", g->scene.K).depth;
+  for (int i = 0; i < 3; ++i) g->publish(wrong_encoding);
+  ASSERT_TRUE(waitFor(allReceived)) << "wrong-encoding frames not received";
+  for (int i = 0; i < 2; ++i) g->publish(size_mismatch);
+  ASSERT_TRUE(waitFor(allReceived)) << "size-mismatch frames not received";
+  // colour images without depth and camera_info: never synchronised, passed over by the next set
+  auto publishColourOnly = [&](int n) {
+    for (int i = 0; i < n; ++i) {
+      auto colour = boost::make_shared<sensor_msgs::Image>(g->good.colour);
+      colour->header.stamp = g->nextStamp();
+      g->pub_colour.publish(colour);
+      ++g->colour_published;
+    }
+  };
+  publishColourOnly(4);
+  for (int i = 0; i < 3; ++i) g->publish(g->good);
+  ASSERT_TRUE(waitFor(allReceived)) << "unmatched colour frames not received";
+  std::map<std::string, std::string> mid;
+  ASSERT_TRUE(latest(mid));
+  // a burst of 40 colour images may overflow the nodelet's subscriber queue (queue_size 10):
+  // each one is then either received (and not synchronised) or lost before the nodelet
+  publishColourOnly(40);
+  g->publish(g->good);
+  const ros::Time last_good = g->last_published;
+  ASSERT_TRUE(waitFor([&] { return out.plane.withStamp(last_good); }))
+      << "good frame after the bad ones not processed";
+  std::map<std::string, std::string> end;
+  ASSERT_TRUE(waitFor([&] {
+    return allReceived() && latest(end) && counter(end, "Frames waiting") == 0;
+  })) << "the frames sent are not all accounted for in the diagnostics";
+
+  const auto delta = [&](const std::string& key, bool prefix = false) {
+    return counter(end, key, prefix) - std::max(0LL, counter(base, key, prefix));
+  };
+  const long long sent = static_cast<long long>(g->colour_published - published_before);
+  EXPECT_EQ(delta("Frames received") + delta("Frames lost before the nodelet"), sent);
+  EXPECT_EQ(counter(mid, "Frames lost before the nodelet"),
+            counter(base, "Frames lost before the nodelet"))
+      << "frames lost while every group was waited for";
+  EXPECT_EQ(delta("Dropped: unsupported colour encoding", true), 3);
+  EXPECT_EQ(delta("Dropped: colour and depth images differ in size", true), 2);
+  EXPECT_EQ(delta("Frames dropped"), 5);
+  EXPECT_EQ(delta("Frames not synchronised") + delta("Frames lost before the nodelet"), 4 + 40);
+  EXPECT_EQ(delta("Frames processed"), 4);
+  EXPECT_EQ(delta("Frames skipped (no subscriber)"), 0);
+  // the rule holds at every diagnostics update, not only at the end
+  size_t reports = 0;
+  g->diagnostics.find([&](const diagnostic_msgs::DiagnosticArray& a) {
+    const auto v = processingValues(a);
+    if (v.empty()) return false;
+    ++reports;
+    EXPECT_TRUE(accountingHolds(v));
+    return false;
+  });
+  EXPECT_GT(reports, 0u);
+  for (const auto& kv : end)
+    std::printf("  [accounting] %s: %s\n", kv.first.c_str(), kv.second.c_str());
 }
 
 TEST(LaneDetectorRos, DiagnosticsReportRateAndProcessingTime) {
@@ -701,10 +887,12 @@ TEST(LaneDetectorRos, DiagnosticsReportRateAndProcessingTime) {
       if (s.name.find("output rate") != std::string::npos) rate = s;
     return true;
   };
-  ASSERT_TRUE(waitFor(reported, [&] { g->publishPaced(out.plane); }, kTimeout, 0.05))
+  ASSERT_TRUE(waitFor(
+      reported, [&] { g->publishPaced(out.plane); }, kTimeout, 0.05))
       << "no processing-time diagnostics while frames are processed";
   EXPECT_GT(value(processing, "Mean detector time (ms)"), 0.0);
-  EXPECT_GE(value(processing, "Max processing time (ms)"), value(processing, "Mean processing time (ms)"));
+  EXPECT_GE(value(processing, "Max processing time (ms)"),
+            value(processing, "Mean processing time (ms)"));
   EXPECT_GT(value(rate, "Actual frequency (Hz)"), 0.0) << "no output-rate diagnostics";
   for (const auto& kv : processing.values)
     std::printf("  [diagnostics, all outputs] %s: %s\n", kv.key.c_str(), kv.value.c_str());
