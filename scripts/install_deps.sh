@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install the Debian packages rgbd_lane_detector needs to build, test and demo.
 # Idempotent: only missing packages are installed, so a second run is quick and silent.
+# With a group name (fuzz), installs that group's packages only.
 set -euo pipefail
 
 PACKAGES=(
@@ -15,6 +16,14 @@ PACKAGES=(
   python3-opencv python3-numpy python3-matplotlib
   rviz xvfb xauth x11-utils libgl1-mesa-dri python3-roslaunch python3-rosgraph python3-rosparam
 )
+# Optional groups, installed only when named: `install_deps.sh fuzz` (make fuzz) adds these.
+FUZZ_PACKAGES=(clang-14 libclang-rt-14-dev)
+for group in "$@"; do
+  case "$group" in
+    fuzz) PACKAGES=("${FUZZ_PACKAGES[@]}") ;;
+    *) echo "install_deps: unknown package group '$group' (known: fuzz)" >&2; exit 1 ;;
+  esac
+done
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do

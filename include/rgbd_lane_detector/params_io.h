@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -44,5 +45,9 @@ bool getParam(const Params& p, const std::string& name, double& value);
  * @return false on error (then @p p is unchanged).
  */
 bool loadParamsYaml(const std::string& path, Params& p, std::string* error = nullptr);
+
+/// loadParamsYaml() on a stream; @p source names it in error messages.
+bool parseParamsYaml(std::istream& in, const std::string& source, Params& p,
+                     std::string* error = nullptr);
 
 }  // namespace rgbd_lane_detector

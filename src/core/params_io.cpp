@@ -165,6 +165,10 @@ bool loadParamsYaml(const std::string& path, Params& p, std::string* error) {
     if (error) *error = "cannot open parameter file " + path;
     return false;
   }
+  return parseParamsYaml(in, path, p, error);
+}
+
+bool parseParamsYaml(std::istream& in, const std::string& path, Params& p, std::string* error) {
   // key/value lines; a mode line selects the preset the other keys apply to, wherever it is
   std::vector<std::pair<std::string, std::string>> entries;
   std::vector<int> line_numbers;

@@ -1,5 +1,7 @@
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -86,10 +88,26 @@ bool readCameraInfoYaml(const std::string& path, Intrinsics& K, cv::Size* size,
     error = "camera_info file not found: " + path;
     return false;
   }
+  // the format by extension, as camera_calibration_parsers::readCalibration() chooses it
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in || (ext != ".yaml" && ext != ".yml" && ext != ".ini")) {
+    error = "cannot parse camera_info file " + path;
+    return false;
+  }
+  return parseCameraInfo(text.str(), ext.substr(1), path, K, size, error);
+}
+
+bool parseCameraInfo(const std::string& text, const std::string& format, const std::string& source,
+                     Intrinsics& K, cv::Size* size, std::string& error) {
   sensor_msgs::CameraInfo info;
   std::string name;
-  if (!camera_calibration_parsers::readCalibration(path, name, info)) {
-    error = "cannot parse camera_info file " + path;
+  if (!camera_calibration_parsers::parseCalibration(text, format, name, info)) {
+    error = "cannot parse camera_info file " + source;
     return false;
   }
   Intrinsics k;
@@ -99,7 +117,7 @@ bool readCameraInfoYaml(const std::string& path, Intrinsics& K, cv::Size* size,
     k = Intrinsics{info.K[0], info.K[4], info.K[2], info.K[5]};
   }
   if (!k.valid()) {
-    error = "camera_info file " + path + " holds invalid intrinsics";
+    error = "camera_info file " + source + " holds invalid intrinsics";
     return false;
   }
   K = k;
@@ -114,15 +132,20 @@ bool readSynthiaIntrinsics(const std::string& path, Intrinsics& K, double* basel
     error = "cannot open intrinsics file " + path;
     return false;
   }
+  return parseSynthiaIntrinsics(in, path, K, baseline, error);
+}
+
+bool parseSynthiaIntrinsics(std::istream& in, const std::string& source, Intrinsics& K,
+                            double* baseline, std::string& error) {
   double f, cx, cy, b = std::numeric_limits<double>::quiet_NaN();
   if (!(in >> f >> cx >> cy)) {
-    error = "intrinsics file " + path + " must hold f, cx, cy";
+    error = "intrinsics file " + source + " must hold f, cx, cy";
     return false;
   }
   in >> b;
   const Intrinsics k{f, f, cx, cy};
   if (!k.valid()) {
-    error = "intrinsics file " + path + " holds invalid values";
+    error = "intrinsics file " + source + " holds invalid values";
     return false;
   }
   K = k;
@@ -137,6 +160,11 @@ bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseli
     error = "cannot open KITTI calibration " + path;
     return false;
   }
+  return parseKittiCalibration(in, path, K, baseline, error);
+}
+
+bool parseKittiCalibration(std::istream& in, const std::string& source, Intrinsics& K,
+                           double& baseline, std::string& error) {
   std::map<std::string, std::vector<double>> rows;
   std::string line;
   while (std::getline(in, line)) {
@@ -150,14 +178,14 @@ bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseli
   }
   const auto p2 = rows.find("P_rect_02"), p3 = rows.find("P_rect_03");
   if (p2 == rows.end() || p2->second.size() != 12 || p3 == rows.end() || p3->second.size() != 12) {
-    error = "KITTI calibration " + path + " lacks P_rect_02 / P_rect_03";
+    error = "KITTI calibration " + source + " lacks P_rect_02 / P_rect_03";
     return false;
   }
   const std::vector<double>& a = p2->second;
   const Intrinsics k{a[0], a[5], a[2], a[6]};
   const double b = (a[3] - p3->second[3]) / a[0];  // P(0,3) = -fx * (camera x offset)
   if (!k.valid() || !(b > 0)) {
-    error = "KITTI calibration " + path + " holds invalid values";
+    error = "KITTI calibration " + source + " holds invalid values";
     return false;
   }
   K = k;

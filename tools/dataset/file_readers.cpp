@@ -128,24 +128,13 @@ double sequenceFps(const fs::path& root) {
   return 10.0;
 }
 
-struct TumList {
-  std::vector<std::pair<double, std::string>> items;
-};
-
 bool readTumList(const fs::path& file, TumList& list, std::string& error) {
   std::ifstream in(file);
   if (!in) {
     error = "cannot open " + file.string();
     return false;
   }
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ss(line);
-    double t;
-    std::string name;
-    if (ss >> t >> name) list.items.emplace_back(t, name);
-  }
+  parseTumList(in, list);
   return true;
 }
 
@@ -195,45 +184,23 @@ std::unique_ptr<DatasetReader> openTum(const DatasetOptions& o, std::string& err
   const fs::path root(o.path);
   std::vector<FileEntry> entries;
   std::error_code ec;
+  std::vector<TumPair> pairs;
   if (fs::exists(root / "associations.txt", ec)) {
     std::ifstream in(root / "associations.txt");
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      std::istringstream ss(line);
-      double t1, t2;
-      std::string f1, f2;
-      if (!(ss >> t1 >> f1 >> t2 >> f2)) continue;
-      if (f1.find("depth") != std::string::npos && f2.find("depth") == std::string::npos) {
-        std::swap(t1, t2);
-        std::swap(f1, f2);
-      }
-      FileEntry e;
-      e.colour = (root / f1).string();
-      e.depth = (root / f2).string();
-      e.stamp = t1;
-      entries.push_back(e);
-    }
+    parseTumAssociations(in, pairs);
   } else {
     TumList rgb, depth;
     if (!readTumList(root / "rgb.txt", rgb, error) ||
         !readTumList(root / "depth.txt", depth, error))
       return nullptr;
-    // nearest depth for each colour frame, one to one, within the tolerance
-    size_t j = 0;
-    for (const auto& c : rgb.items) {
-      while (j + 1 < depth.items.size() && std::fabs(depth.items[j + 1].first - c.first) <=
-                                               std::fabs(depth.items[j].first - c.first))
-        ++j;
-      if (j < depth.items.size() && std::fabs(depth.items[j].first - c.first) <= o.sync_tolerance) {
-        FileEntry e;
-        e.colour = (root / c.second).string();
-        e.depth = (root / depth.items[j].second).string();
-        e.stamp = c.first;
-        entries.push_back(e);
-        ++j;
-      }
-    }
+    associateTumLists(rgb, depth, o.sync_tolerance, pairs);
+  }
+  for (const TumPair& p : pairs) {
+    FileEntry e;
+    e.colour = (root / p.colour).string();
+    e.depth = (root / p.depth).string();
+    e.stamp = p.stamp;
+    entries.push_back(e);
   }
   if (entries.empty()) {
     error = "TUM folder " + o.path + ": no associated colour/depth pairs";
@@ -321,5 +288,56 @@ std::unique_ptr<DatasetReader> openKitti(const DatasetOptions& o, std::string& e
 }
 
 }  // namespace internal
+
+void parseTumList(std::istream& in, TumList& list) {
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    double t;
+    std::string name;
+    if (ss >> t >> name) list.emplace_back(t, name);
+  }
+}
+
+void parseTumAssociations(std::istream& in, std::vector<TumPair>& pairs) {
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    double t1, t2;
+    std::string f1, f2;
+    if (!(ss >> t1 >> f1 >> t2 >> f2)) continue;
+    if (f1.find("depth") != std::string::npos && f2.find("depth") == std::string::npos) {
+      std::swap(t1, t2);
+      std::swap(f1, f2);
+    }
+    TumPair p;
+    p.stamp = t1;
+    p.colour = f1;
+    p.depth = f2;
+    pairs.push_back(std::move(p));
+  }
+}
+
+void associateTumLists(const TumList& rgb, const TumList& depth, double tolerance,
+                       std::vector<TumPair>& pairs) {
+  // nearest depth for each colour frame, one to one, within the tolerance
+  size_t j = 0;
+  for (const auto& c : rgb) {
+    while (j + 1 < depth.size() &&
+           std::fabs(depth[j + 1].first - c.first) <= std::fabs(depth[j].first - c.first))
+      ++j;
+    if (j < depth.size() && std::fabs(depth[j].first - c.first) <= tolerance) {
+      TumPair p;
+      p.stamp = c.first;
+      p.colour = c.second;
+      p.depth = depth[j].second;
+      pairs.push_back(std::move(p));
+      ++j;
+    }
+  }
+}
+
 }  // namespace tools
 }  // namespace rgbd_lane_detector

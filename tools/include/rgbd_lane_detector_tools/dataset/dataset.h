@@ -8,8 +8,10 @@
  */
 #pragma once
 
+#include <istream>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -95,6 +97,45 @@ bool readSynthiaIntrinsics(const std::string& path, Intrinsics& K, double* basel
 /// KITTI rectified intrinsics and colour baseline from calib_cam_to_cam.txt (P_rect_02/03).
 bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseline,
                           std::string& error);
+
+// Text parsers behind the file readers above (the file versions open the file and call these;
+// fuzz/fuzz_readers.cpp drives them). @p source names the input in error messages.
+
+/**
+ * @brief readCameraInfoYaml() on text: @p format is "yaml"/"yml" (or "ini"), as
+ * camera_calibration_parsers::parseCalibration() takes it.
+ */
+bool parseCameraInfo(const std::string& text, const std::string& format, const std::string& source,
+                     Intrinsics& K, cv::Size* size, std::string& error);
+
+/// readSynthiaIntrinsics() on a stream.
+bool parseSynthiaIntrinsics(std::istream& in, const std::string& source, Intrinsics& K,
+                            double* baseline, std::string& error);
+
+/// readKittiCalibration() on a stream.
+bool parseKittiCalibration(std::istream& in, const std::string& source, Intrinsics& K,
+                           double& baseline, std::string& error);
+
+/// A TUM rgb.txt / depth.txt list: `stamp file` lines, '#' comments; malformed lines skipped.
+using TumList = std::vector<std::pair<double, std::string>>;
+void parseTumList(std::istream& in, TumList& list);
+
+/// One colour/depth pair of a TUM sequence (file names relative to the sequence folder).
+struct TumPair {
+  double stamp = 0.0;  ///< colour stamp
+  std::string colour, depth;
+};
+
+/// A TUM associations.txt: `t1 f1 t2 f2` lines in either order (the depth file is the one
+/// whose name holds "depth"); '#' comments, malformed lines skipped.
+void parseTumAssociations(std::istream& in, std::vector<TumPair>& pairs);
+
+/**
+ * @brief Pair each colour entry with the nearest depth entry, one to one, in list order, when
+ * within @p tolerance seconds (both lists sorted by stamp, as TUM writes them).
+ */
+void associateTumLists(const TumList& rgb, const TumList& depth, double tolerance,
+                       std::vector<TumPair>& pairs);
 
 /**
  * @brief KITTI disparity PNG (uint16, disparity = value / 256, 0 = none) to depth.
