@@ -4,8 +4,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <sstream>
+#include <type_traits>
 
 namespace rgbd_lane_detector {
 namespace {
@@ -15,9 +17,30 @@ struct Field {
   std::function<double(const Params&)> get;
 };
 
+// An integer field from a double: truncated toward zero, saturated at the int range (a cast of
+// an out-of-range or NaN double is undefined behaviour); NaN leaves the field unchanged.
+// sanitize() then clamps to the field's own range.
+bool toInt(double v, int& out) {
+  if (std::isnan(v)) return false;
+  if (v >= static_cast<double>(std::numeric_limits<int>::max()))
+    out = std::numeric_limits<int>::max();
+  else if (v <= static_cast<double>(std::numeric_limits<int>::min()))
+    out = std::numeric_limits<int>::min();
+  else
+    out = static_cast<int>(v);
+  return true;
+}
+
 template <typename T>
 Field member(T Params::*m) {
-  return {[m](Params& p, double v) { p.*m = static_cast<T>(v); },
+  return {[m](Params& p, double v) {
+            if constexpr (std::is_integral_v<T>) {
+              int i = 0;
+              if (toInt(v, i)) p.*m = static_cast<T>(i);
+            } else {
+              p.*m = static_cast<T>(v);
+            }
+          },
           [m](const Params& p) { return static_cast<double>(p.*m); }};
 }
 
@@ -28,7 +51,10 @@ Field boolean(bool Params::*m) {
 
 template <typename E>
 Field enumeration(E Params::*m) {
-  return {[m](Params& p, double v) { p.*m = static_cast<E>(static_cast<int>(v)); },
+  return {[m](Params& p, double v) {
+            int i = 0;
+            if (toInt(v, i)) p.*m = static_cast<E>(i);
+          },
           [m](const Params& p) { return static_cast<double>(static_cast<int>(p.*m)); }};
 }
 

@@ -4,6 +4,7 @@
 #include <limits>
 #include <regex>
 #include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -133,6 +134,33 @@ TEST(Params, LoadsFlatYamlFiles) {
   EXPECT_NE(err.find("tau_c"), std::string::npos);
   EXPECT_EQ(q.tau_c, Params().tau_c);
   EXPECT_FALSE(loadParamsYaml("/nonexistent/file.yaml", q, &err));
+}
+
+// fuzz_readers: "template_size: 2444...4" (2.4e46) in a parameter file cast a double outside
+// the int range to int (undefined behaviour; INT_MIN on x86, so the template became the
+// smallest instead of the largest). Integer fields now saturate, NaN leaves them unchanged.
+TEST(Params, OutOfRangeNumbersSaturateIntegerFields) {
+  Params p;
+  std::string err;
+  ASSERT_TRUE(setParamText(p, "template_size", std::string(48, '4'), &err)) << err;
+  EXPECT_EQ(p.template_size, std::numeric_limits<int>::max());
+  EXPECT_EQ(sanitize(p).template_size, 256);
+  ASSERT_TRUE(setParamText(p, "jump_step", "-1e300", &err)) << err;
+  EXPECT_EQ(p.jump_step, std::numeric_limits<int>::min());
+  EXPECT_EQ(sanitize(p).jump_step, 1);
+  ASSERT_TRUE(setParam(p, "plane_fit", 1e20));
+  EXPECT_EQ(static_cast<int>(p.plane_fit), std::numeric_limits<int>::max());
+  EXPECT_EQ(sanitize(p).plane_fit, Params().plane_fit);
+  Params q;
+  ASSERT_TRUE(setParam(q, "tau_c", std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_EQ(q.tau_c, Params().tau_c);
+  ASSERT_TRUE(setParam(q, "tau_c", 120.9));  // in range: truncated as before
+  EXPECT_EQ(q.tau_c, 120);
+
+  std::istringstream yaml("template_size: " + std::string(48, '4') + "\n");
+  Params r;
+  ASSERT_TRUE(parseParamsYaml(yaml, "test", r, &err)) << err;
+  EXPECT_EQ(sanitize(r).template_size, 256);
 }
 
 }  // namespace
