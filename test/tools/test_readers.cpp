@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <camera_calibration_parsers/parse.h>
 #include <gtest/gtest.h>
@@ -308,6 +309,54 @@ TEST(Readers, BadInputGivesClearErrors) {
   EXPECT_NE(reader->error().find("16-bit"), std::string::npos);
   Intrinsics K;
   EXPECT_FALSE(readCameraInfoYaml("/nonexistent.yaml", K, nullptr, error));
+}
+
+// The text parsers behind the file readers (what fuzz_readers drives).
+TEST(Readers, TextParsers) {
+  Intrinsics K;
+  std::string error;
+  const std::string yaml =
+      "image_width: 64\nimage_height: 48\ncamera_name: c\n"
+      "camera_matrix: {rows: 3, cols: 3, data: [50, 0, 32, 0, 51, 24, 0, 0, 1]}\n"
+      "distortion_model: plumb_bob\n"
+      "distortion_coefficients: {rows: 1, cols: 5, data: [0, 0, 0, 0, 0]}\n"
+      "rectification_matrix: {rows: 3, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}\n"
+      "projection_matrix: {rows: 3, cols: 4, data: [40, 0, 30, 0, 0, 41, 20, 0, 0, 0, 1, 0]}\n";
+  cv::Size size;
+  for (const char* format : {"yaml", "yml"}) {
+    ASSERT_TRUE(parseCameraInfo(yaml, format, "test", K, &size, error)) << error;
+    EXPECT_DOUBLE_EQ(K.fx, 40.0);  // P wins over K
+    EXPECT_DOUBLE_EQ(K.cy, 20.0);
+    EXPECT_EQ(size, cv::Size(64, 48));
+  }
+  EXPECT_FALSE(parseCameraInfo("camera_matrix: [", "yaml", "test", K, nullptr, error));
+  EXPECT_FALSE(parseCameraInfo(yaml, "xml", "test", K, nullptr, error));
+
+  std::istringstream synthia(" 532.7\t640\n380 0.8\n");
+  double baseline = 0.0;
+  ASSERT_TRUE(parseSynthiaIntrinsics(synthia, "test", K, &baseline, error)) << error;
+  EXPECT_DOUBLE_EQ(K.fy, 532.7);
+  EXPECT_DOUBLE_EQ(baseline, 0.8);
+  std::istringstream short_synthia("532.7 640");
+  EXPECT_FALSE(parseSynthiaIntrinsics(short_synthia, "test", K, &baseline, error));
+
+  TumList rgb, depth;
+  std::istringstream rgb_in("# rgb\n1.000 rgb/1.png\nbad line\n2.000 rgb/2.png\n");
+  std::istringstream depth_in("1.010 d/1.png\n2.500 d/2.png\n");
+  parseTumList(rgb_in, rgb);
+  parseTumList(depth_in, depth);
+  ASSERT_EQ(rgb.size(), 2u);
+  std::vector<TumPair> pairs;
+  associateTumLists(rgb, depth, 0.02, pairs);
+  ASSERT_EQ(pairs.size(), 1u);
+  EXPECT_EQ(pairs[0].colour, "rgb/1.png");
+  EXPECT_EQ(pairs[0].depth, "d/1.png");
+  std::istringstream assoc("1 depth/a.png 1.01 rgb/a.png\n2 rgb/b.png 2.01 depth/b.png\n3 x\n");
+  pairs.clear();
+  parseTumAssociations(assoc, pairs);
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].colour, "rgb/a.png");
+  EXPECT_DOUBLE_EQ(pairs[0].stamp, 1.01);
 }
 
 TEST(Readers, KittiDisparityConversion) {

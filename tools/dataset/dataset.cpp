@@ -9,7 +9,8 @@
 #include <map>
 #include <sstream>
 
-#include <camera_calibration_parsers/parse.h>
+#include <camera_calibration_parsers/parse_ini.h>
+#include <camera_calibration_parsers/parse_yml.h>
 #include <sensor_msgs/CameraInfo.h>
 
 #include "readers_internal.h"
@@ -106,7 +107,14 @@ bool parseCameraInfo(const std::string& text, const std::string& format, const s
                      Intrinsics& K, cv::Size* size, std::string& error) {
   sensor_msgs::CameraInfo info;
   std::string name;
-  if (!camera_calibration_parsers::parseCalibration(text, format, name, info)) {
+  // the stream readers of camera_calibration_parsers (its parseCalibration() knows ini only)
+  std::istringstream in(text);
+  bool parsed = false;
+  if (format == "yaml" || format == "yml")
+    parsed = camera_calibration_parsers::readCalibrationYml(in, name, info);
+  else if (format == "ini")
+    parsed = camera_calibration_parsers::readCalibrationIni(in, name, info);
+  if (!parsed) {
     error = "cannot parse camera_info file " + source;
     return false;
   }

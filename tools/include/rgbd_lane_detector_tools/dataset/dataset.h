@@ -102,8 +102,8 @@ bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseli
 // fuzz/fuzz_readers.cpp drives them). @p source names the input in error messages.
 
 /**
- * @brief readCameraInfoYaml() on text: @p format is "yaml"/"yml" (or "ini"), as
- * camera_calibration_parsers::parseCalibration() takes it.
+ * @brief readCameraInfoYaml() on text: @p format is "yaml" or "yml" (or "ini", the other format
+ * of camera_calibration_parsers).
  */
 bool parseCameraInfo(const std::string& text, const std::string& format, const std::string& source,
                      Intrinsics& K, cv::Size* size, std::string& error);
