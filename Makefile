@@ -1,7 +1,7 @@
 # rgbd_lane_detector: set-up, build, test and demo from a clean Debian 12 checkout.
 #   make demo   - install deps, build, run the detector graph on generated synthetic data
 #   make test   - install deps, build, run every gtest/rostest, catkin_lint, roslaunch-check
-# Other targets: build, bench, eval, test-sanitize, fuzz, format, clean.
+# Other targets: build, bench, eval, test-sanitize, fuzz, soak, format, clean.
 
 SHELL := /bin/bash
 .ONESHELL:
@@ -19,7 +19,7 @@ export ROS_HOME ?= $(BUILD)/ros_home
 CMAKE_ARGS := -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON
 SETUP := source $(WS)/devel/setup.bash
 
-.PHONY: all deps build test demo bench eval test-sanitize fuzz format clean
+.PHONY: all deps build test demo bench eval test-sanitize fuzz soak format clean
 
 all: build
 
@@ -48,6 +48,9 @@ test-sanitize: deps
 fuzz: deps
 	@$(ROOT)/scripts/install_deps.sh fuzz
 	@$(ROOT)/scripts/fuzz.sh
+
+soak: build
+	@$(SETUP) && $(ROOT)/scripts/soak.sh
 
 format:
 	@clang-format -i $$(git ls-files '*.cpp' '*.h')
