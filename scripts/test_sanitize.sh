@@ -1,27 +1,82 @@
 #!/usr/bin/env bash
-# Build the core unit tests with AddressSanitizer + UndefinedBehaviorSanitizer in a separate
-# workspace and run them; any report fails.
+# `make test-sanitize`: the package's tests under the sanitizers, each in its own workspace.
+#  1. AddressSanitizer + UndefinedBehaviorSanitizer (build/ws_sanitize): every gtest (core,
+#     tools, conversions) with leak detection, then every rostest (standalone node, nodelet in
+#     Debian's uninstrumented nodelet manager with the ASan runtime preloaded, concurrency,
+#     short soak). Any report aborts the process and fails its test.
+#  2. ThreadSanitizer (build/ws_tsan): the concurrency rostest (frames, dynamic_reconfigure
+#     changes and subscriber churn at once on the nodelet) with test/sanitize/tsan.supp, which
+#     names third-party (roscpp, log4cxx) reports only. Any report fails.
+# SANITIZE_ONLY=asan|tsan runs one half; RLD_CONCURRENCY_SECONDS sets the TSan traffic time.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-WS=$ROOT/build/ws_sanitize
 export PATH=/usr/bin:/bin:$PATH
-"$ROOT/scripts/make_workspace.sh" "$WS"
-FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
-cd "$WS"
-TESTS=$(sed -n '/set(CORE_TESTS/,/)/p' "$ROOT/test/CMakeLists.txt" | grep -oE 'test_[a-z_]+')
-echo "sanitize: building $(echo $TESTS | wc -w) core test binaries (log: build/sanitize_build.log)"
-catkin_make -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 \
-  -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="$FLAGS" -DCMAKE_SHARED_LINKER_FLAGS="$FLAGS" \
-  $TESTS -j"$(nproc)" > "$ROOT/build/sanitize_build.log" 2>&1 || { tail -n 40 "$ROOT/build/sanitize_build.log"; exit 1; }
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
-export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-passed=0; failed=0
-for t in $TESTS; do
-  if "$WS/devel/lib/rgbd_lane_detector/$t" > "$ROOT/build/sanitize_$t.log" 2>&1; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1)); echo "FAILED: $t"; tail -n 30 "$ROOT/build/sanitize_$t.log"
+export PYTHONNOUSERSITE=1
+ONLY=${SANITIZE_ONLY:-all}
+PKG=rgbd_lane_detector
+COMMON="-DCMAKE_BUILD_TYPE=RelWithDebInfo -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON"
+JOBS=$(nproc)
+
+# Configure and build a sanitizer workspace: build_ws <ws> <flags> <log> <targets...>
+build_ws() {
+  local ws=$1 flags=$2 log=$3
+  shift 3
+  "$ROOT/scripts/make_workspace.sh" "$ws" > /dev/null
+  echo "sanitize: building $(basename "$ws") ($*; log: ${log#"$ROOT"/})"
+  (cd "$ws" && catkin_make $COMMON -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" \
+    -DCMAKE_SHARED_LINKER_FLAGS="$flags" "$@" -j"$JOBS") > "$log" 2>&1 || { tail -n 40 "$log"; exit 1; }
+}
+
+# Run catkin test targets in a workspace; prints catkin_test_results' summary, returns its status.
+run_targets() {
+  local ws=$1 log=$2
+  shift 2
+  rm -rf "$ws/build/test_results" "$ws/ros_home/log"
+  (cd "$ws" && source devel/setup.bash && export ROS_HOME="$ws/ros_home" &&
+    for t in "$@"; do make -C build "$t" -j1 || true; done) > "$log" 2>&1
+  local status=0
+  # reports are written to stderr, which rostest keeps in the test's log: show them here
+  if grep -q "ERROR: AddressSanitizer\|runtime error:\|WARNING: ThreadSanitizer\|ERROR: LeakSanitizer" \
+    -r "$log" "$ws/ros_home/log" 2> /dev/null; then
+    echo "sanitize: sanitizer reports in ${log#"$ROOT"/} or $ws/ros_home/log:"
+    grep -h -A12 "ERROR: AddressSanitizer\|runtime error:\|WARNING: ThreadSanitizer\|ERROR: LeakSanitizer" \
+      -r "$log" "$ws/ros_home/log" | head -n 60
+    status=1
   fi
-done
-echo "sanitize: ${passed} passed, ${failed} failed"
-[ "$failed" -eq 0 ]
+  catkin_test_results --verbose "$ws/build/test_results/$PKG" | grep -E "^(Summary|.*(failure|error)[^s])" || true
+  catkin_test_results "$ws/build/test_results/$PKG" > /dev/null || status=1
+  return $status
+}
+
+failed=0
+if [ "$ONLY" = all ] || [ "$ONLY" = asan ]; then
+  WS=$ROOT/build/ws_sanitize
+  build_ws "$WS" "-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
+    "$ROOT/build/sanitize_build.log" all tests
+  # gtests: leaks are errors. rostests: the nodelet manager and the Python tools load the
+  # instrumented library through LD_PRELOAD; their interpreters' exit-time allocations are not
+  # ours, so leak checking stays with the gtests (and the soak's RSS check).
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  echo "sanitize: ASan+UBSan gtests"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+    run_targets "$WS" "$ROOT/build/sanitize_gtests.log" run_tests_${PKG}_gtest || failed=1
+  echo "sanitize: ASan+UBSan rostests (node, nodelet in a manager, concurrency, short soak)"
+  ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:strict_string_checks=1 \
+    LD_PRELOAD="$(gcc -print-file-name=libasan.so)" \
+    run_targets "$WS" "$ROOT/build/sanitize_rostests.log" run_tests_${PKG}_rostest || failed=1
+  unset UBSAN_OPTIONS
+fi
+if [ "$ONLY" = all ] || [ "$ONLY" = tsan ]; then
+  WS=$ROOT/build/ws_tsan
+  build_ws "$WS" "-fsanitize=thread -fno-omit-frame-pointer" "$ROOT/build/tsan_build.log" \
+    test_concurrency ${PKG}_nodelet
+  echo "sanitize: ThreadSanitizer concurrency rostest (${RLD_CONCURRENCY_SECONDS:=30} s of traffic)"
+  export RLD_CONCURRENCY_SECONDS
+  TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitize/tsan.supp" \
+    run_targets "$WS" "$ROOT/build/tsan_rostest.log" \
+    run_tests_${PKG}_rostest_test_concurrency_concurrency.test || failed=1
+  grep -h "^concurrency:" -r "$WS/ros_home/log" "$WS/build/test_results" "$ROOT/build/tsan_rostest.log" 2> /dev/null |
+    tail -n 1 || true
+fi
+if [ "$failed" -eq 0 ]; then echo "sanitize: all clean"; else echo "sanitize: FAILED"; fi
+exit "$failed"
