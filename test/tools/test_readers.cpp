@@ -359,6 +359,40 @@ TEST(Readers, TextParsers) {
   EXPECT_DOUBLE_EQ(pairs[0].stamp, 1.01);
 }
 
+// fuzz_readers: a camera_info YAML whose rectification_matrix says "rows: 2" aborted the process
+// (an assert in camera_calibration_parsers); a huge or negative distortion size threw
+// std::length_error past its handler. Both are now refused with an error.
+TEST(Readers, MalformedCameraInfoMatricesAreRefused) {
+  const std::string head =
+      "image_width: 64\nimage_height: 48\ncamera_name: c\n"
+      "camera_matrix: {rows: 3, cols: 3, data: [50, 0, 32, 0, 51, 24, 0, 0, 1]}\n"
+      "distortion_model: plumb_bob\n";
+  const std::string d = "distortion_coefficients: {rows: 1, cols: 5, data: [0, 0, 0, 0, 0]}\n";
+  const std::string r =
+      "rectification_matrix: {rows: 3, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}\n";
+  const std::string p =
+      "projection_matrix: {rows: 3, cols: 4, data: [40, 0, 30, 0, 0, 41, 20, 0, 0, 0, 1, 0]}\n";
+  Intrinsics K;
+  std::string error;
+  ASSERT_TRUE(parseCameraInfo(head + d + r + p, "yaml", "test", K, nullptr, error)) << error;
+  const std::string r_2x3 =
+      "rectification_matrix: {rows: 2, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}\n";
+  EXPECT_FALSE(parseCameraInfo(head + d + r_2x3 + p, "yaml", "test", K, nullptr, error));
+  EXPECT_NE(error.find("rectification_matrix"), std::string::npos) << error;
+  const std::string p_3x5 =
+      "projection_matrix: {rows: 3, cols: 5, data: [40, 0, 30, 0, 0, 41, 20, 0, 0, 0, 1, 0]}\n";
+  EXPECT_FALSE(parseCameraInfo(head + d + r + p_3x5, "yaml", "test", K, nullptr, error));
+  for (const char* size : {"rows: -1, cols: 5", "rows: 100000, cols: 100000"}) {
+    const std::string bad_d =
+        std::string("distortion_coefficients: {") + size + ", data: [0, 0, 0, 0, 0]}\n";
+    EXPECT_FALSE(parseCameraInfo(head + bad_d + r + p, "yaml", "test", K, nullptr, error)) << size;
+  }
+  // and through the file reader
+  const fs::path file = tempDir("camera_info") / "bad.yaml";
+  std::ofstream(file) << head << d << r_2x3 << p;
+  EXPECT_FALSE(readCameraInfoYaml(file.string(), K, nullptr, error));
+}
+
 TEST(Readers, KittiDisparityConversion) {
   cv::Mat disp(1, 3, CV_16UC1);
   disp.at<uint16_t>(0) = 0;

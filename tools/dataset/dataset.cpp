@@ -12,6 +12,7 @@
 #include <camera_calibration_parsers/parse_ini.h>
 #include <camera_calibration_parsers/parse_yml.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <yaml-cpp/yaml.h>
 
 #include "readers_internal.h"
 
@@ -103,6 +104,43 @@ bool readCameraInfoYaml(const std::string& path, Intrinsics& K, cv::Size* size,
   return parseCameraInfo(text.str(), ext.substr(1), path, K, size, error);
 }
 
+namespace {
+
+// camera_calibration_parsers' YAML reader asserts (abort) on a matrix whose rows/cols differ from
+// 3x3 (K, R) / 3x4 (P), and sizes D by rows * cols unchecked (int overflow, std::length_error out
+// of its YAML::Exception handler). Check those fields first, with the same yaml-cpp reads it
+// makes; false: the reader would fail or crash on this text.
+bool calibrationYamlReadable(const std::string& text, std::string& problem) {
+  try {
+    const YAML::Node doc = YAML::Load(text);
+    const struct {
+      const char* name;
+      int rows, cols;
+    } matrices[] = {
+        {"camera_matrix", 3, 3}, {"rectification_matrix", 3, 3}, {"projection_matrix", 3, 4}};
+    for (const auto& m : matrices) {
+      const int rows = doc[m.name]["rows"].as<int>(), cols = doc[m.name]["cols"].as<int>();
+      if (rows != m.rows || cols != m.cols) {
+        problem = std::string(m.name) + " is " + std::to_string(rows) + "x" + std::to_string(cols) +
+                  ", expected " + std::to_string(m.rows) + "x" + std::to_string(m.cols);
+        return false;
+      }
+    }
+    const YAML::Node d = doc["distortion_coefficients"];
+    const long long d_rows = d["rows"].as<int>(), d_cols = d["cols"].as<int>();
+    if (d_rows < 0 || d_cols < 0 || d_rows * d_cols > 64) {
+      problem = "distortion_coefficients size out of range";
+      return false;
+    }
+  } catch (const YAML::Exception& e) {
+    problem = e.what();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 bool parseCameraInfo(const std::string& text, const std::string& format, const std::string& source,
                      Intrinsics& K, cv::Size* size, std::string& error) {
   sensor_msgs::CameraInfo info;
@@ -110,10 +148,16 @@ bool parseCameraInfo(const std::string& text, const std::string& format, const s
   // the stream readers of camera_calibration_parsers (its parseCalibration() knows ini only)
   std::istringstream in(text);
   bool parsed = false;
-  if (format == "yaml" || format == "yml")
+  std::string problem;
+  if (format == "yaml" || format == "yml") {
+    if (!calibrationYamlReadable(text, problem)) {
+      error = "cannot parse camera_info file " + source + ": " + problem;
+      return false;
+    }
     parsed = camera_calibration_parsers::readCalibrationYml(in, name, info);
-  else if (format == "ini")
+  } else if (format == "ini") {
     parsed = camera_calibration_parsers::readCalibrationIni(in, name, info);
+  }
   if (!parsed) {
     error = "cannot parse camera_info file " + source;
     return false;
