@@ -21,6 +21,9 @@ Accounting rule (colour frames; the soak is the only publisher of the inputs):
       0 <= edge <= cycles * (queue_size + rate * 0.5 s), cycles = input subscribe periods:
       the frames in flight or in the nodelet's subscriber queue when it unsubscribes (and any
       lost before the first one received after it subscribes) are seen by neither counter.
+RSS (manager, /proc/<pid>/status every second): median over the second half of a reference
+window (start configuration, every output subscribed, no churn; ~10 s) right after the warm-up
+(the first 10 % of the frames, with churn) against the same window at the end of the run.
 """
 import argparse
 import json
@@ -258,8 +261,12 @@ def wait_until(cond, timeout, period=0.05):
 class Soak:
     def __init__(self, args):
         self.a = args
-        self.rng = random.Random(args.seed)
+        self.rng = random.Random(args.seed)  # frames; the churn threads have their own
+        self.rng_sub = random.Random(args.seed + 1)
+        self.rng_param = random.Random(args.seed + 2)
         self.stop = threading.Event()
+        self.paused = threading.Event()  # reference windows: no churn
+        self.churn_lock = threading.Lock()
         self.mon = Monitor()
         self.subs = {}
         self.subs_lock = threading.Lock()
@@ -285,40 +292,60 @@ class Soak:
                                                     callback_args=t, queue_size=5, buff_size=2 ** 24)
 
     def subscriber_churn(self):
-        while not self.stop.wait(self.rng.uniform(self.a.sub_period * 0.5, self.a.sub_period * 1.5)):
-            if self.rng.random() < 0.25:
-                topics = []
-                self.none_periods += 1
-            else:
-                topics = self.rng.sample(list(OUTPUTS), self.rng.randint(1, len(OUTPUTS)))
-            self.set_subscribers(topics)
-            self.sub_changes += 1
+        rng = self.rng_sub
+        while not self.stop.wait(rng.uniform(self.a.sub_period * 0.5, self.a.sub_period * 1.5)):
+            with self.churn_lock:
+                if self.paused.is_set():
+                    continue
+                if self.sub_changes % 4 == 1:  # every 4th change: no subscriber at all
+                    topics = []
+                    self.none_periods += 1
+                else:
+                    topics = rng.sample(list(OUTPUTS), rng.randint(1, len(OUTPUTS)))
+                self.set_subscribers(topics)
+                self.sub_changes += 1
 
     def random_config(self, descriptions):
+        rng = self.rng_param
         names = [d['name'] for d in descriptions]
-        chosen = self.rng.sample([n for n in BOOL_PARAMS + list(NUMERIC_PARAMS) if n in names], self.rng.randint(1, 4))
+        chosen = rng.sample([n for n in BOOL_PARAMS + list(NUMERIC_PARAMS) if n in names], rng.randint(1, 4))
         types = {d['name']: d['type'] for d in descriptions}
         config = {}
         for name in chosen:
             if name in BOOL_PARAMS:
-                config[name] = self.rng.random() < 0.5
+                config[name] = rng.random() < 0.5
             else:
                 lo, hi = NUMERIC_PARAMS[name]
-                config[name] = self.rng.randint(lo, hi) if types[name] == 'int' else round(self.rng.uniform(lo, hi), 3)
+                config[name] = rng.randint(lo, hi) if types[name] == 'int' else round(rng.uniform(lo, hi), 3)
         return config
 
     def parameter_churn(self, client, initial):
         descriptions = client.get_parameter_descriptions()
-        while not self.stop.wait(self.rng.uniform(self.a.param_period * 0.5, self.a.param_period * 1.5)):
-            reset = self.param_changes % 10 == 9  # back to the start configuration now and then
-            config = initial if reset else self.random_config(descriptions)
+        rng = self.rng_param
+        while not self.stop.wait(rng.uniform(self.a.param_period * 0.5, self.a.param_period * 1.5)):
+            with self.churn_lock:
+                if self.paused.is_set():
+                    continue
+                reset = self.param_changes % 10 == 9  # back to the start configuration now and then
+                config = initial if reset else self.random_config(descriptions)
+                try:
+                    client.update_configuration(config)
+                    self.param_changes += 1
+                    self.param_resets += reset
+                except Exception as e:  # noqa: BLE001 - counted, the soak goes on
+                    self.param_errors += 1
+                    log('reconfigure failed: %s' % e)
+
+    def reference_state(self, client, initial):
+        """Churn paused; start configuration, every output subscribed (the RSS reference windows)."""
+        self.paused.set()
+        with self.churn_lock:
             try:
-                client.update_configuration(config)
-                self.param_changes += 1
-                self.param_resets += reset
-            except Exception as e:  # noqa: BLE001 - counted, the soak goes on
+                client.update_configuration(initial)
+            except Exception as e:  # noqa: BLE001
                 self.param_errors += 1
                 log('reconfigure failed: %s' % e)
+            self.set_subscribers(list(OUTPUTS))
 
     def rss_sampler(self):
         while not self.stop.is_set():
@@ -365,7 +392,12 @@ class Soak:
             t.start()
         wait_until(lambda: pub_c.get_num_connections() > 0, 10.0)
 
+        # RSS: churn for `warmup` frames, then a reference window (start configuration, every
+        # output subscribed, no churn) of `ref` frames; the same window ends the run. Growth =
+        # median RSS of the second half of the last window - that of the first window.
         warmup = max(100, a.frames // 10)
+        ref = max(90, min(300, a.frames // 20))
+        windows = [(warmup, warmup + ref), (a.frames - ref, a.frames)]
         sent_connected = 0          # colour frames rospy sent to the nodelet (its header.seq)
         connected = False
         cycles = 0                  # input subscribe periods seen by the publisher
@@ -387,9 +419,14 @@ class Soak:
                 late += 1
                 next_t = now  # behind: keep the rate from here, no burst
             next_t += period
+            for w in windows:
+                if i == w[0]:
+                    self.reference_state(client, initial)
+                elif i == w[1]:
+                    self.paused.clear()
             kind = None
-            if i >= 10 and self.rng.random() < a.bad_fraction:
-                kind = self.rng.choice(BAD_KINDS)
+            if i >= 10 and not self.paused.is_set() and self.rng.random() < a.bad_fraction:
+                kind = BAD_KINDS[sum(bad_sent.values()) % len(BAD_KINDS)]  # each kind in turn
             colour, depth, info = bad[kind] if kind else frames[i % len(frames)]
             stamp = rospy.Time.now()
             if stamp <= last_stamp:
@@ -458,13 +495,17 @@ class Soak:
         edge_bound = cycles * (queue_size + int(math.ceil(a.rate * 0.5)))
         ok_final, final_text = accounting_holds(final) if final else (False, 'no diagnostics')
         accounting_ok = (ok_final and self.mon.violations == 0 and self.mon.reports > 0 and 0 <= edge <= edge_bound)
-        rss = [r for r in self.rss]
+        rss = list(self.rss)
         rss_start = rss[0][2] if rss else None
-        warm = [r for r in rss if r[1] >= warmup]
-        rss_warm = warm[0][2] if warm else None
         rss_end = rss[-1][2] if rss else None
-        rss_max = max((r[2] for r in warm), default=None)
-        growth_kb = (rss_end - rss_warm) if (rss_end is not None and rss_warm is not None) else None
+        rss_max = max((r[2] for r in rss if r[1] >= warmup), default=None)
+
+        def window_rss(w):
+            vals = sorted(r[2] for r in rss if w[0] + (w[1] - w[0]) // 2 <= r[1] < w[1] and r[0] <= t_pub1)
+            vals = vals or sorted(r[2] for r in rss if w[0] <= r[1] <= w[1])  # short runs
+            return vals[len(vals) // 2] if vals else None
+        rss_warm, rss_last = window_rss(windows[0]), window_rss(windows[1])
+        growth_kb = (rss_last - rss_warm) if (rss_last is not None and rss_warm is not None) else None
         rss_ok = growth_kb is not None and growth_kb < a.rss_limit_mb * 1024
         nan_total = sum(self.mon.nan.values())
         checks = {
@@ -517,9 +558,10 @@ class Soak:
                 'reports_violating_rule': self.mon.violations,
                 'violation_examples': self.mon.violation_examples,
             },
-            'rss_kb': {'start': rss_start, 'after_warmup': rss_warm, 'warmup_frames': warmup, 'max_after_warmup': rss_max,
+            'rss_kb': {'start': rss_start, 'after_warmup': rss_warm, 'warmup_frames': warmup,
+                       'reference_windows': windows, 'max_after_warmup': rss_max, 'last_window': rss_last,
                        'end': rss_end, 'growth_after_warmup': growth_kb, 'limit': a.rss_limit_mb * 1024,
-                       'samples': len(rss)},
+                       'samples': [[round(t - t_pub0, 1), n, kb] for t, n, kb in rss]},
             'outputs_received': self.mon.messages,
             'non_finite_values': self.mon.nan,
             'non_finite_examples': self.mon.nan_examples,
@@ -562,9 +604,12 @@ class Soak:
             '- sent to the nodelet %d = received %d + lost before it %d + edge %d (bound %d)' % (
                 acc['frames_sent_to_nodelet'], acc['received'], acc['lost_before_nodelet'], acc['edge_frames'],
                 acc['edge_bound']),
-            '- manager RSS: start %s, after warm-up (%d frames) %s, max after %s, end %s; growth %s' % (
-                mb(rss['start']), rss['warmup_frames'], mb(rss['after_warmup']), mb(rss['max_after_warmup']),
-                mb(rss['end']), mb(rss['growth_after_warmup'])),
+            '- manager RSS: start %s; reference window after warm-up (frames %d-%d) %s, last reference window '
+            '(frames %d-%d) %s: growth %s (limit %s); max after warm-up %s, end %s' % (
+                mb(rss['start']), rss['reference_windows'][0][0], rss['reference_windows'][0][1],
+                mb(rss['after_warmup']), rss['reference_windows'][1][0], rss['reference_windows'][1][1],
+                mb(rss['last_window']), mb(rss['growth_after_warmup']), mb(rss['limit']),
+                mb(rss['max_after_warmup']), mb(rss['end'])),
             '- output messages checked: %d; non-finite values: %d' % (
                 sum(r['outputs_received'].values()), sum(r['non_finite_values'].values())),
             '', 'Overall: **%s**' % ('PASS' if r['pass'] else 'FAIL'), '']
