@@ -8,6 +8,8 @@
 // is_bigendian, data length, K / P values (NaN, huge, zero) and camera_info size.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -206,6 +208,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const rld::Status checked = detector.validate(frame);
     const rld::Status status = detector.detect(frame, result);
     if (status != checked) std::abort();
+    if (std::getenv("RLD_FUZZ_VERBOSE"))  // to see what a reproducer does
+      std::fprintf(stderr, "frame %d: %s, left %d right %d plane %d\n", i,
+                   rld::statusMessage(status), result.left.found, result.right.found,
+                   result.plane.valid);
     if (status != rld::Status::kOk) continue;
 
     std_msgs::Header header;

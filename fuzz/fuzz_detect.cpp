@@ -6,7 +6,9 @@
 // valid intrinsics) and mutations move away from it: sizes 0, 1xN, Nx1, colour/depth size
 // mismatches, every cv::Mat depth and channel count, non-continuous images, NaN / inf /
 // negative / huge depth, zero / NaN / huge intrinsics, any parameter value by name.
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <vector>
 
@@ -173,6 +175,21 @@ rld::Intrinsics makeIntrinsics(FuzzedDataProvider& fdp, cv::Size size) {
   return K;
 }
 
+/// The contract of test/core/test_bad_input.cpp: an invalid result, never NaN / inf output.
+void checkResult(const rld::Result& r) {
+  for (const cv::Mat* m : {&r.response_left, &r.response_right, &r.geometric}) {
+    if (m->size() != r.response_left.size()) std::abort();
+    if (!m->empty() && !cv::checkRange(*m)) std::abort();
+  }
+  if (r.plane.valid && (!r.plane.normal.allFinite() || !std::isfinite(r.plane.distance)))
+    std::abort();
+  for (const rld::MarkerTrace* m : {&r.left, &r.right}) {
+    for (const cv::Point2f& p : m->pixels)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) std::abort();
+    if (m->found && (!std::isfinite(m->seed.x) || !std::isfinite(m->seed.y))) std::abort();
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -222,9 +239,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const rld::Status status = detector.detect(frame, result);
     // detect() reports exactly what validate() found (one check, two entry points)
     if (status != checked || status != result.status) std::abort();
-    if (status == rld::Status::kOk) {
-      if (result.response_left.size() != result.response_right.size()) std::abort();
-    }
+    if (std::getenv("RLD_FUZZ_VERBOSE"))  // to see what a reproducer does
+      std::fprintf(stderr, "frame %d: %s, left %d right %d plane %d\n", i,
+                   rld::statusMessage(status), result.left.found, result.right.found,
+                   result.plane.valid);
+    if (status == rld::Status::kOk) checkResult(result);
   }
   return 0;
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <fuzzer/FuzzedDataProvider.h>
+#include <ros/console.h>
 
 #include "rgbd_lane_detector/lane_detector.h"
 #include "rgbd_lane_detector/params_io.h"
@@ -19,6 +20,14 @@
 
 namespace rld = rgbd_lane_detector;
 namespace tools = rgbd_lane_detector::tools;
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  // camera_calibration_parsers reports every malformed file through rosconsole: keep the logs
+  // to libFuzzer's own lines
+  if (ros::console::set_logger_level(ROSCONSOLE_ROOT_LOGGER_NAME, ros::console::levels::Fatal))
+    ros::console::notifyLoggerLevelsChanged();
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   FuzzedDataProvider fdp(data, size);
