@@ -161,7 +161,8 @@ TEST_F(Concurrency, FramesReconfigureAndSubscribersAtOnce) {
 
   const std::string service = std::string(kDetector) + "/set_parameters";
   ASSERT_TRUE(ros::service::waitForService(service, ros::Duration(60.0)));
-  LaneDetectorConfig initial;
+  LaneDetectorConfig initial =
+      LaneDetectorConfig::__getDefault__();  // (members start uninitialised)
   ASSERT_TRUE(reconfigure(nullptr, &initial));
 
   std::atomic<bool> stop{false};
@@ -244,7 +245,7 @@ TEST_F(Concurrency, FramesReconfigureAndSubscribersAtOnce) {
 
   // Back to the initial configuration: the next answers are the detector's, on that
   // configuration, for the rendered road (plane within 1 degree and 5 cm of the truth).
-  LaneDetectorConfig applied;
+  LaneDetectorConfig applied = LaneDetectorConfig::__getDefault__();
   ASSERT_TRUE(reconfigure(&initial, &applied));
   EXPECT_EQ(applied.template_size, initial.template_size);
   const ros::Time changed = ros::Time::now();
