@@ -191,6 +191,20 @@ Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
   return K;
 }
 
+sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, int width, int height,
+                                                 const std_msgs::Header& header) {
+  sensor_msgs::CameraInfo info;
+  info.header = header;
+  info.width = static_cast<uint32_t>(std::max(0, width));
+  info.height = static_cast<uint32_t>(std::max(0, height));
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {K.fx, 0, K.cx, 0, 0, K.fy, K.cy, 0, 0, 0, 1, 0};
+  return info;
+}
+
 const char* frameFromMsgs(const sensor_msgs::Image& colour, const sensor_msgs::Image& depth,
                           const sensor_msgs::CameraInfo& info, Frame& frame,
                           cv::Mat& swap_buffer) {

@@ -33,6 +33,8 @@
 #include <rgbd_lane_detector/LaneMarkings.h>
 #include <rgbd_lane_detector/LanePlane.h>
 
+#include "rgbd_lane_detector/ros/conversions.h"
+
 #include "../core/synthetic_scene.h"
 
 namespace rgbd_lane_detector {
@@ -85,15 +87,7 @@ class Concurrency : public ::testing::Test {
     h.frame_id = kFrame;
     colour_ = *cv_bridge::CvImage(h, "bgr8", bgr).toImageMsg();
     depth_ = *cv_bridge::CvImage(h, "16UC1", depth_mm).toImageMsg();
-    info_.header = h;
-    info_.width = static_cast<uint32_t>(bgr.cols);
-    info_.height = static_cast<uint32_t>(bgr.rows);
-    info_.distortion_model = "plumb_bob";
-    info_.D.assign(5, 0.0);
-    const Intrinsics& K = scene_.K;
-    info_.K = {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1};
-    info_.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    info_.P = {K.fx, 0, K.cx, 0, 0, K.fy, K.cy, 0, 0, 0, 1, 0};
+    info_ = conversions::cameraInfoFromIntrinsics(scene_.K, bgr.cols, bgr.rows, h);
 
     pub_colour_ = nh_.advertise<sensor_msgs::Image>("rgb/image_rect_color", 5);
     pub_depth_ = nh_.advertise<sensor_msgs::Image>("depth_registered/image_rect", 5);

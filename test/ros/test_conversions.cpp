@@ -141,6 +141,32 @@ TEST(Conversions, IntrinsicsFromProjectionElseK) {
   EXPECT_FALSE(conv::intrinsicsFromCameraInfo(zero).valid());
 }
 
+TEST(Conversions, CameraInfoFromIntrinsicsRoundTrips) {
+  std_msgs::Header h;
+  h.frame_id = "cam";
+  const Intrinsics K{266.37, 270.5, 320.25, 190.75};
+  const sensor_msgs::CameraInfo info = conv::cameraInfoFromIntrinsics(K, 640, 380, h);
+  EXPECT_EQ(info.header.frame_id, "cam");
+  EXPECT_EQ(info.width, 640u);
+  EXPECT_EQ(info.height, 380u);
+  EXPECT_EQ(info.D, std::vector<double>(5, 0.0));
+  const boost::array<double, 9> K_expected = {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1};
+  const boost::array<double, 9> identity = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  EXPECT_EQ(info.K, K_expected);
+  EXPECT_EQ(info.R, identity);
+  const Intrinsics back = conv::intrinsicsFromCameraInfo(info);
+  EXPECT_DOUBLE_EQ(back.fx, K.fx);
+  EXPECT_DOUBLE_EQ(back.fy, K.fy);
+  EXPECT_DOUBLE_EQ(back.cx, K.cx);
+  EXPECT_DOUBLE_EQ(back.cy, K.cy);
+  // and the frame it describes is accepted with images of that size
+  Frame frame;
+  cv::Mat swap;
+  sensor_msgs::Image colour = makeImage(enc::BGR8, 640, 380, 3);
+  sensor_msgs::Image depth = makeImage(enc::TYPE_16UC1, 640, 380, 2);
+  EXPECT_EQ(conv::frameFromMsgs(colour, depth, info, frame, swap), nullptr);
+}
+
 TEST(Conversions, FrameChecksCameraInfoSize) {
   sensor_msgs::Image colour = makeImage(enc::BGR8, 8, 6, 3);
   sensor_msgs::Image depth = makeImage(enc::TYPE_16UC1, 8, 6, 2);

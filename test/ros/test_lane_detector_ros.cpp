@@ -38,6 +38,7 @@
 #include <rgbd_lane_detector/LanePlane.h>
 
 #include "../core/synthetic_scene.h"
+#include "rgbd_lane_detector/ros/conversions.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -158,14 +159,7 @@ class Harness {
     h.frame_id = kOpticalFrame;
     s.colour = *cv_bridge::CvImage(h, colour_enc, colour).toImageMsg();
     s.depth = *cv_bridge::CvImage(h, depth_enc, depth).toImageMsg();
-    s.info.header = h;
-    s.info.width = static_cast<uint32_t>(colour.cols);
-    s.info.height = static_cast<uint32_t>(colour.rows);
-    s.info.distortion_model = "plumb_bob";
-    s.info.D.assign(5, 0.0);
-    s.info.K = {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1};
-    s.info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    s.info.P = {K.fx, 0, K.cx, 0, 0, K.fy, K.cy, 0, 0, 0, 1, 0};
+    s.info = conversions::cameraInfoFromIntrinsics(K, colour.cols, colour.rows, h);
     return s;
   }
 

@@ -12,6 +12,8 @@
 #include <tf2_msgs/TFMessage.h>
 #include <opencv2/imgproc.hpp>
 
+#include "rgbd_lane_detector/ros/conversions.h"
+
 namespace rgbd_lane_detector {
 namespace tools {
 namespace {
@@ -176,16 +178,8 @@ bool BagWriter::write(const DatasetFrame& f, std::string& error) {
                   *cv_bridge::CvImage(header, enc::TYPE_16UC1, depth).toImageMsg());
     }
     // camera_info
-    sensor_msgs::CameraInfo info;
-    info.header = header;
-    info.width = static_cast<uint32_t>(f.colour.cols);
-    info.height = static_cast<uint32_t>(f.colour.rows);
-    info.distortion_model = "plumb_bob";
-    info.D.assign(5, 0.0);
-    const Intrinsics& K = f.intrinsics;
-    info.K = {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1};
-    info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    info.P = {K.fx, 0, K.cx, 0, 0, K.fy, K.cy, 0, 0, 0, 1, 0};
+    const sensor_msgs::CameraInfo info =
+        conversions::cameraInfoFromIntrinsics(f.intrinsics, f.colour.cols, f.colour.rows, header);
     bag_->write(joinTopic(options_.ns, "rgb/camera_info"), stamp, info);
   } catch (const rosbag::BagException& e) {
     error = std::string("cannot write to bag: ") + e.what();

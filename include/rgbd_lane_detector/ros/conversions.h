@@ -72,6 +72,13 @@ const char* depthFromMsg(const sensor_msgs::Image& msg, cv::Mat& depth, double& 
 Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info);
 
 /**
+ * @brief camera_info of an undistorted pinhole camera (the inverse of
+ * intrinsicsFromCameraInfo()): K and P from @p K, R identity, plumb_bob with zero distortion.
+ */
+sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, int width, int height,
+                                                 const std_msgs::Header& header);
+
+/**
  * @brief Build a core Frame from the three synchronised inputs, reading images in place.
  * Checks what only the messages can tell (encodings, step, data length, camera_info size);
  * the core's LaneDetector::validate() checks the rest (sizes, intrinsics, template fit).
