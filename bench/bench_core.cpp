@@ -102,11 +102,9 @@ void BM_Detect(benchmark::State& state) {
   setLabel(state, d);
 }
 
-// detect() in the package's recommended mode (Params::improved(): adaptive threshold, gates,
-// lane model), single thread.
-void BM_DetectImproved(benchmark::State& state) {
-  Data& d = data(static_cast<int>(state.range(0)));
-  LaneDetector det(Params::improved());
+// Time detect() with @p params over the frames of @p d, after one warm-up pass.
+void timeDetect(benchmark::State& state, Data& d, const Params& params) {
+  LaneDetector det(params);
   Result r;
   for (int i = 0; i < kFrames; ++i) det.detect(d.frames[i].frame(), r);  // warm-up
   int i = 0;
@@ -117,20 +115,19 @@ void BM_DetectImproved(benchmark::State& state) {
   setLabel(state, d);
 }
 
+// detect() in the package's recommended mode (Params::improved(): adaptive threshold, gates,
+// lane model), single thread.
+void BM_DetectImproved(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  timeDetect(state, d, Params::improved());
+}
+
 // detect() with the second core (runPair: normals + G next to matching), wall time.
 void BM_Detect2(benchmark::State& state) {
   Data& d = data(static_cast<int>(state.range(0)));
   cv::setNumThreads(2);
-  LaneDetector det(d.params);
-  Result r;
-  for (int i = 0; i < kFrames; ++i) det.detect(d.frames[i].frame(), r);  // warm-up
-  int i = 0;
-  for (auto _ : state) {
-    det.detect(d.frames[i++ % kFrames].frame(), r);
-    benchmark::DoNotOptimize(r.plane.distance);
-  }
+  timeDetect(state, d, d.params);
   cv::setNumThreads(1);
-  setLabel(state, d);
 }
 
 void BM_OpenCV_Pipeline(benchmark::State& state) {
