@@ -61,9 +61,24 @@ struct PlaneEstimate {
   int fit_method = 0;                          ///< PlaneFit value used
 };
 
-/// One traced lane marker (left or right side).
+/**
+ * @brief What a lane boundary is. Paint lies flat on the road surface (within a few centimetres)
+ * and is brighter than the asphalt beside it; a road edge is a height step (kerb, guard-rail
+ * foot) or a change of surface (rails, grass, an unpainted asphalt edge).
+ */
+enum class BoundaryKind : int {
+  kPaint = 0,     ///< a painted line on the road
+  kRoadEdge = 1,  ///< the edge of the drivable surface without paint
+};
+
+/// "paint" or "road_edge" (static text).
+const char* boundaryKindName(BoundaryKind kind);
+
+/// One traced lane boundary (left or right side of the ego lane).
 struct MarkerTrace {
-  bool found = false;                 ///< enough traced points (Params::min_marker_points)
+  bool found = false;                 ///< reported this frame (enough traced points, checks passed)
+  BoundaryKind kind = BoundaryKind::kPaint;  ///< meaningful when found
+  float confidence = 0.0f;            ///< in [0, 1]: how sure the detector is of this side (0: not found)
   float peak_score = 0.0f;            ///< R at the seed (best match)
   cv::Point2f seed{-1.f, -1.f};       ///< best match, input-image pixel coordinates
   Eigen::Vector3f seed_point{0.f, 0.f, 0.f};  ///< 3D point of the best match (NaN: no depth)

@@ -31,4 +31,14 @@ const char* statusMessage(Status status) {
   return "unknown status";
 }
 
+const char* boundaryKindName(BoundaryKind kind) {
+  switch (kind) {
+    case BoundaryKind::kPaint:
+      return "paint";
+    case BoundaryKind::kRoadEdge:
+      return "road_edge";
+  }
+  return "unknown";
+}
+
 }  // namespace rgbd_lane_detector
