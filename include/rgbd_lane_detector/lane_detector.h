@@ -4,14 +4,17 @@
  */
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "rgbd_lane_detector/boundary_classifier.h"
 #include "rgbd_lane_detector/fals_normals.h"
-#include "rgbd_lane_detector/lane_tracker.h"
+#include "rgbd_lane_detector/lane_fitter.h"
 #include "rgbd_lane_detector/line_template.h"
 #include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/road_surface.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -20,8 +23,13 @@ namespace rgbd_lane_detector {
 /**
  * @brief Lane marker and lane plane detector (Quach et al.), ROS-free.
  *
+ * detect() runs the stages in order: pre-processing (half-binary image), depth to points,
+ * normals with the geometric map G and template matching, the response map R, the road surface
+ * from depth (improved mode), boundary candidates (seeds, PCA angle, sliding-box tracing) per
+ * side, their classification (paint, road edge, no boundary), and the lane fit (LaneFitter).
  * Carries state between frames: the PCA-refined template angles and, with the temporal
- * options, the previous plane. Call reset() when the stream restarts (rosbag loop, seek).
+ * options, the previous plane and the lane model. Call reset() when the stream restarts
+ * (rosbag loop, seek).
  * Not thread-safe: one detector per thread. Buffers are allocated on the first frame and on
  * size changes only, so with a reused Result the steady state does not allocate.
  */
@@ -33,7 +41,7 @@ class LaneDetector {
   void setParams(const Params& params);
   const Params& params() const { return params_; }
 
-  /// Forget carried state (template angles, previous plane).
+  /// Forget carried state (template angles, previous plane, lane model).
   void reset();
 
   /**
@@ -48,17 +56,43 @@ class LaneDetector {
   /// Check a frame without processing it.
   Status validate(const Frame& frame) const;
 
+  /**
+   * @brief The lines traced on one side in the last detect(), best seed first, with what the
+   * classifier found them to be (overlays, tuning).
+   * @param[in] side 0 left, 1 right.
+   * @param[out] count number of candidates.
+   * @return the candidates (valid until the next detect() or setParams()).
+   */
+  const BoundaryCandidate* candidates(int side, int& count) const {
+    count = candidate_count_[side];
+    return candidates_[side].data();
+  }
+
   /// Templates that the next detect() will use.
   const LineTemplate& leftTemplate() const { return left_template_; }
   const LineTemplate& rightTemplate() const { return right_template_; }
 
  private:
+  // the stages of detect(), in order
   void prepareGeometry(const Frame& frame);
+  void preprocess(const Frame& frame);
+  void computePoints(const Frame& frame);
+  void computeResponses();
+  void fitRoadSurface();
+  /// Trace up to boundary_candidates lines of one side whose seeds are the best matches of
+  /// @p R off the lines already traced, appended to candidates_[side].
+  void findCandidates(int side, cv::Mat& R);
+  void classifyCandidates(const Frame& frame);
+  void finish(Result& result);
+
   void resampleColour(const Frame& frame);
-  void applyPlaneGate(const cv::Range& rows);
+  void applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat& right);
+  /// acquisition_angle_deg: match the steeper templates for the sides without a tracked line.
+  void computeAcquisitionResponses();
   /// road_gate: true when the surface normal at a processing pixel is known and not road-like.
   bool offRoad(const cv::Point& pixel) const;
-  void findSeed(cv::Mat& R, bool left, cv::Point& peak, float& value);
+  /// Best match of @p R in its side's search area (near the predicted boundary first); value 0
+  /// when nothing is left.
   void findBestMatch(const cv::Mat& R, bool left, cv::Point& peak, float& value);
   /// Columns near a side's predicted marker, per row of @p area (band_lo_/band_hi_);
   /// false: no prediction.
@@ -66,24 +100,19 @@ class LaneDetector {
   bool plausibleMarkerAngle(double angle, bool left) const;
   void buildTrace(const cv::Mat& R, const cv::Point& peak, float peak_value, double angle,
                   MarkerTrace& trace);
+  /// Zero R around a seed for the next seed search (restore_ keeps the values).
+  void excludeBox(cv::Mat& R, const cv::Point& centre);
+  /// excludeBox() along a traced line and its seed.
+  void excludeTrace(cv::Mat& R, const MarkerTrace& trace, const cv::Point& peak);
   /// 3D point of a processing-image pixel: its own, else the nearest valid depth in its box
   /// on the pixel's ray, else NaN (never a zero depth).
   Eigen::Vector3f pointAt(const cv::Point2f& c) const;
-  void fitPlane(Result& result);
-  /// fitPlane() with the temporal lane model (track_lanes).
-  void fitTracked(Result& result);
-  bool planePlausible(const PlaneEstimate& plane) const;
-  void snapToPlane(const PlaneEstimate& plane, MarkerTrace& m) const;
-  bool laneWidthPlausible(const PlaneEstimate& plane, const MarkerTrace& L,
-                          const MarkerTrace& R) const;
-  void rejectIncomplete(Result& result) const;
   void updateTemplates(const Result& result);
 
   Params params_;
   // carried state
   double next_left_angle_ = 0.0;
   double next_right_angle_ = 0.0;
-  PlaneEstimate previous_plane_;
   bool templates_dirty_ = true;
 
   // geometry of the processing image
@@ -92,6 +121,7 @@ class LaneDetector {
   double scale_ = 1.0;
   Intrinsics proc_K_;
   cv::Rect roi_;
+  cv::Range roi_rows_;
   cv::Mat col_map_, row_map_;  ///< CV_32SC1 source column / row of each processing pixel
 
   // per-frame buffers (allocated on size change only)
@@ -100,19 +130,28 @@ class LaneDetector {
   cv::Mat points_;
   cv::Mat geometric_;
   cv::Mat response_left_, response_right_;
+  StageTimings timings_;
 
   FalsNormals fals_;
   NccMatcher matcher_;
   LineTemplate left_template_, right_template_;
+  // acquisition: templates at acquisition_angle_deg for sides without a tracked boundary
+  NccMatcher acquisition_matcher_;
+  LineTemplate acquisition_left_, acquisition_right_;
+  cv::Mat acquisition_response_left_, acquisition_response_right_;
+  std::array<bool, 2> acquiring_{{false, false}};
+  RoadSurface road_surface_;
+  PlaneEstimate road_;
+  BoundaryClassifier classifier_;
+  LaneFitter fitter_;
+  std::array<std::vector<BoundaryCandidate>, 2> candidates_;
+  std::array<int, 2> candidate_count_{{0, 0}};
+  std::vector<std::pair<float*, float>> restore_;  ///< R values zeroed by the candidate search
   std::vector<cv::Point> pca_stack_;
   std::vector<uint8_t> pca_visited_;
   std::vector<cv::Point2f> trace_pixels_;
   std::vector<float> trace_scores_;
-  std::vector<Eigen::Vector3f> fit_points_;
-  mutable std::vector<double> width_samples_;
-  LaneTracker tracker_;
   std::vector<Eigen::Vector3f> samples_;
-  const std::vector<Eigen::Vector3f> samples_none_;
   std::vector<int> band_lo_, band_hi_;
   std::vector<int> row_histogram_;
 };

@@ -56,12 +56,19 @@ struct TrackerParams {
 class LaneTracker {
  public:
   LaneTracker() { reset(); }
+  /// Forget both sides.
   void reset();
+  /// Forget side @p i (0 left, 1 right); the other keeps its model.
+  void resetSide(int i);
 
   /// True when side @p i (0 left, 1 right) has evidence no older than max_age frames.
   bool valid(int i) const { return sides_[i].valid; }
   /// True once a side has two frames of evidence (the model gates its measurements).
   bool established(int i) const { return sides_[i].valid && sides_[i].frames >= 2; }
+  /// Frames since side @p i last had evidence (0: this frame).
+  int age(int i) const { return sides_[i].age; }
+  /// Frames with evidence of side @p i since its model started.
+  int frames(int i) const { return sides_[i].frames; }
   /// Lateral position of side @p i at forward distance @p f (m).
   double lateral(int i, double f) const;
 
@@ -109,8 +116,8 @@ class LaneTracker {
   /// Keep the points within @p gate of the robust straight line through them.
   static void trimToLine(std::vector<Eigen::Vector2d>& m, double gate);
 
-  Mat4 A_;
-  Vec4 b_;
+  std::array<Mat4, 2> A_;  ///< normal equations of each side's evidence (shared shape terms)
+  std::array<Vec4, 2> b_;
   Vec4 coef_;  ///< a_left, a_right, b, c
   std::array<Side, 2> sides_;
   std::array<std::vector<Eigen::Vector2d>, 2> measurements_;

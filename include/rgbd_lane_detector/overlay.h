@@ -7,13 +7,15 @@
 
 #include <opencv2/core.hpp>
 
+#include "rgbd_lane_detector/lane_fitter.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
 
 /**
- * @brief Draw the searched region, both traced markers (left green, right orange), the seed
+ * @brief Draw the searched region, both lane boundaries (paint: left green, right orange; road
+ * edges red with square points; each with its kind and confidence in the text), the seed
  * boxes with their PCA direction, a grid on the lane plane and the scores.
  * @param[in] colour input colour image (any supported PixelFormat).
  * @param[in] format its channel layout.
@@ -24,5 +26,15 @@ namespace rgbd_lane_detector {
  */
 void drawOverlay(const cv::Mat& colour, PixelFormat format, const Intrinsics& K,
                  const Result& result, const Params& params, cv::Mat& out);
+
+/**
+ * @brief Draw traced candidate lines with their verdicts (tuning aid): thin lines, cyan for
+ * paint, magenta for road edges, grey for rejected ones, each labelled with the classifier's
+ * reason and, where measured, the band width (cm) and the height step (cm).
+ * @param[in] candidates lines of one side.
+ * @param[in] count number of them.
+ * @param[in,out] out overlay image (drawOverlay()'s output).
+ */
+void drawCandidates(const BoundaryCandidate* candidates, int count, cv::Mat& out);
 
 }  // namespace rgbd_lane_detector

@@ -21,6 +21,7 @@ enum class DepthTerm : int {
 enum class PlaneFit : int {
   kThreePoint = 0,    ///< Paper: plane through the best left match, best right match, furthest right.
   kLeastSquares = 1,  ///< Robust (trimmed) least squares over every traced marker point.
+  kRoadSurface = 2,   ///< The road surface from depth, markers or not (RoadSurface).
 };
 
 /**
@@ -63,6 +64,9 @@ struct Params {
 
   // --- Lane plane -----------------------------------------------------------
   PlaneFit plane_fit = PlaneFit::kThreePoint;
+  double road_fit_range = 20.0;      ///< road_surface: depth up to this far ahead fits the plane (m)
+  double road_inlier_distance = 0.04;  ///< road_surface: inlier band at the camera (m)
+  double road_noise_growth = 0.0015;   ///< road_surface: the band grows by this times z^2 (1/m)
   double plane_max_tilt_deg = 90.0;  ///< reject planes tilted more than this from O_y (90: off)
   double plane_distance_min = 0.0;   ///< reject planes closer to the camera than this (m)
   double plane_distance_max = 1e3;   ///< reject planes farther from the camera than this (m)
@@ -86,6 +90,19 @@ struct Params {
   int track_max_age = 10;         ///< frames a side survives without evidence
   double track_gate = 0.5;        ///< measurements farther than this from the model are outliers (m)
   int track_seed_band = 0;        ///< >0: seek each seed within this many px of its predicted marker
+
+  // --- Boundaries on real streets (named options; off in the paper mode) -----
+  int boundary_candidates = 1;    ///< lines traced per side; the nearest lane boundary among them is kept
+  double acquisition_angle_deg = 0.0;  ///< >0: a side without a tracked boundary is also sought with templates at this angle (deg)
+  bool adapt_per_side = false;    ///< each side's template follows its own PCA angle (paper: both sides or neither)
+  bool classify_boundaries = false;  ///< classify each line as paint, road edge or no boundary
+  double paint_contrast = 0.25;   ///< paint is this much brighter than the road beside it (relative)
+  double paint_width_min = 0.07;  ///< narrower bright lines are not paint (rail heads) (m)
+  double paint_width_max = 0.45;  ///< wider bright bands are not lane lines (zebra, arrows) (m)
+  double kerb_height = 0.05;      ///< a raised surface beyond a line by this much makes it a road edge (m)
+  double edge_chroma = 0.03;      ///< rg-chromaticity change across an unpainted road edge
+  double boundary_offset_min = 0.15;  ///< a boundary is at least this far beside the camera (m)
+  double boundary_offset_max = 4.5;   ///< ... and at most this far (m)
 
   /// Paper-faithful configuration (the defaults).
   static Params paper() { return Params(); }

@@ -58,6 +58,7 @@ struct PlaneEstimate {
   double distance = 0.0;                       ///< d; the camera height above the road when valid
   std::vector<Eigen::Vector3f> support;        ///< points the plane was fitted to
   double rms = 0.0;                            ///< RMS distance of the support points (m)
+  double range = 0.0;                          ///< the road is this plane up to this far ahead (m); 0: unknown
   int fit_method = 0;                          ///< PlaneFit value used
 };
 
@@ -97,9 +98,11 @@ struct StageTimings {
   double normals = 0.0;      ///< FALS normals
   double matching = 0.0;     ///< NCC with both templates
   double response = 0.0;     ///< G and the fused R maps
-  double pca = 0.0;          ///< template angle refinement
-  double tracing = 0.0;      ///< sliding-box tracing of both markers
-  double plane = 0.0;        ///< lane plane fit
+  double road = 0.0;         ///< road surface from depth (improved mode)
+  double pca = 0.0;          ///< seeds and template angle refinement
+  double tracing = 0.0;      ///< sliding-box tracing of every candidate line
+  double classify = 0.0;     ///< candidate classification (paint, road edge, no boundary)
+  double plane = 0.0;        ///< lane plane and boundary fit
   double total = 0.0;
 };
 

@@ -81,14 +81,15 @@ void LaneDetector::setParams(const Params& params) {
   // state (a reconfigure must not throw away the PCA adaptation or the lane model).
   const bool new_templates = !sameTemplates(p, params_) || left_template_.size == 0;
   params_ = p;
+  fitter_.setParams(p);
   if (new_templates) reset();
 }
 
 void LaneDetector::reset() {
   next_left_angle_ = defaultLeftAngle(params_.template_angle_deg);
   next_right_angle_ = defaultRightAngle(params_.template_angle_deg);
-  previous_plane_.valid = false;
-  tracker_.reset();
+  fitter_.reset();
+  road_.valid = false;
   templates_dirty_ = true;
 }
 
@@ -148,6 +149,7 @@ void LaneDetector::prepareGeometry(const Frame& frame) {
     roi_ = roi;
     geometric_.release();
   }
+  roi_rows_ = cv::Range(roi_.y, roi_.y + roi_.height);
   proc_K_ = frame.intrinsics;
 }
 
@@ -159,53 +161,99 @@ void LaneDetector::resampleColour(const Frame& frame) {
 
 Status LaneDetector::detect(const Frame& frame, Result& result) {
   const Clock::time_point start = Clock::now();
-  Clock::time_point t = start;
-  result.timings = StageTimings();
+  timings_ = StageTimings();
   result.left.found = result.right.found = false;
-  result.left.pixels.clear();
-  result.right.pixels.clear();
-  result.left.points.clear();
-  result.right.points.clear();
-  result.left.scores.clear();
-  result.right.scores.clear();
   result.plane.valid = false;
-  result.plane.support.clear();
   result.status = validate(frame);
-  if (result.status != Status::kOk) return result.status;
-
-  const Params& p = params_;
+  if (result.status != Status::kOk) {
+    for (MarkerTrace* m : {&result.left, &result.right}) {
+      m->confidence = 0.0f;
+      m->pixels.clear();
+      m->points.clear();
+      m->scores.clear();
+    }
+    result.plane.support.clear();
+    result.timings = timings_;
+    return result.status;
+  }
   prepareGeometry(frame);
   if (templates_dirty_) {
-    makeLineTemplate(p.template_size, p.template_line_width, next_left_angle_, left_template_);
-    makeLineTemplate(p.template_size, p.template_line_width, next_right_angle_, right_template_);
+    makeLineTemplate(params_.template_size, params_.template_line_width, next_left_angle_,
+                     left_template_);
+    makeLineTemplate(params_.template_size, params_.template_line_width, next_right_angle_,
+                     right_template_);
+    if (params_.acquisition_angle_deg > 0.0) {
+      makeLineTemplate(params_.template_size, params_.template_line_width,
+                       defaultLeftAngle(params_.acquisition_angle_deg), acquisition_left_);
+      makeLineTemplate(params_.template_size, params_.template_line_width,
+                       defaultRightAngle(params_.acquisition_angle_deg), acquisition_right_);
+    }
     templates_dirty_ = false;
   }
+  for (int side = 0; side < 2; ++side)
+    acquiring_[side] = params_.acquisition_angle_deg > 0.0 && params_.track_lanes &&
+                       !fitter_.tracker().established(side);
 
-  // 1. pre-processing
+  Clock::time_point t = start;
+  preprocess(frame);            // 1. half-binary image
+  timings_.preprocess = msSince(t);
+  computePoints(frame);         // 2. organised 3D points
+  timings_.points = msSince(t);
+  computeResponses();           // 3.-5. normals and G, template matching, R
+  computeAcquisitionResponses();
+  msSince(t);
+  fitRoadSurface();             // 6. the road plane from depth (improved mode)
+  timings_.road = msSince(t);
+  for (int side = 0; side < 2; ++side) {  // 7. seeds, PCA angles and traces of each side's lines
+    candidate_count_[side] = 0;
+    findCandidates(side, side == 0 ? response_left_ : response_right_);
+    if (acquiring_[side])
+      findCandidates(side, side == 0 ? acquisition_response_left_ : acquisition_response_right_);
+  }
+  classifyCandidates(frame);    // 8. paint, road edge or no boundary (improved mode)
+  timings_.classify = msSince(t);
+  LaneFitInput fit;             // 9. the lane plane and boundaries
+  fit.K = proc_K_;
+  fit.road = &road_;
+  fit.road_range = road_surface_.validRange();
+  fit.candidates = &candidates_;
+  fit.counts = candidate_count_;
+  fitter_.fit(fit, result);
+  timings_.plane = msSince(t);
+  finish(result);
+  timings_.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  result.timings = timings_;
+  return Status::kOk;
+}
+
+void LaneDetector::preprocess(const Frame& frame) {
   resampleColour(frame);
   const cv::Mat& colour = col_map_.empty() ? frame.colour : colour_small_;
-  const cv::Range roi_rows(roi_.y, roi_.y + roi_.height);
-  if (p.adaptive_tau_c) {
+  if (params_.adaptive_tau_c) {
     // per-row threshold: row median + offset (fog, overpasses, shadows change the road's grey)
-    halfBinary(colour, frame.format, 0, roi_rows, half_binary_);
-    applyRowThreshold(half_binary_, roi_rows, p.tau_c_offset, row_histogram_);
+    halfBinary(colour, frame.format, 0, roi_rows_, half_binary_);
+    applyRowThreshold(half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_);
   } else {
-    halfBinary(colour, frame.format, p.tau_c, roi_rows, half_binary_);
+    halfBinary(colour, frame.format, params_.tau_c, roi_rows_, half_binary_);
   }
-  result.timings.preprocess = msSince(t);
+}
 
-  // 2. organised points (ROI plus the normal window's margin)
-  const int h = p.normal_window / 2;
-  const cv::Range point_rows(std::max(0, roi_.y - h), std::min(proc_size_.height, roi_.y + roi_.height + h));
+void LaneDetector::computePoints(const Frame& frame) {
+  // the ROI plus the normal window's margin, read through the maps: exact back-projection of
+  // each sampled source pixel
+  const int h = params_.normal_window / 2;
+  const cv::Range point_rows(std::max(0, roi_.y - h),
+                             std::min(proc_size_.height, roi_.y + roi_.height + h));
   DepthDecoder decoder;
   decoder.scale = frame.depth_scale;
-  decoder.min_depth = p.min_depth;
-  decoder.max_depth = p.max_depth;
-  // read through the maps: exact back-projection of each sampled source pixel
+  decoder.min_depth = params_.min_depth;
+  decoder.max_depth = params_.max_depth;
   depthToPoints(frame.depth, decoder, proc_K_, point_rows, points_, col_map_, row_map_);
-  if (p.fill_depth_holes > 0) fillDepthHoles(points_, point_rows, p.fill_depth_holes);
-  result.timings.points = msSince(t);
+  if (params_.fill_depth_holes > 0) fillDepthHoles(points_, point_rows, params_.fill_depth_holes);
+}
 
+void LaneDetector::computeResponses() {
+  const Params& p = params_;
   // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept).
   // 4. matching. 3 and 4 are independent: on two cores when OpenCV may use two threads (each
   // timing is then its own stage's, and they overlap).
@@ -213,62 +261,176 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
     const Clock::time_point t3 = Clock::now();
     if (p.use_depth) {
       fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
-      fals_.computeGeometric(points_, roi_rows, p, geometric_);
+      fals_.computeGeometric(points_, roi_rows_, p, geometric_);
     }
-    result.timings.normals = std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
+    timings_.normals = std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
   };
   auto matching = [&] {
     const Clock::time_point t4 = Clock::now();
     matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
                    response_right_);
-    result.timings.matching = std::chrono::duration<double, std::milli>(Clock::now() - t4).count();
+    timings_.matching = std::chrono::duration<double, std::milli>(Clock::now() - t4).count();
   };
   runPair(normals, matching);
-  msSince(t);
 
   // 5. R (G was computed with the normals)
+  const Clock::time_point t5 = Clock::now();
   if (p.use_depth) {
-    if (p.plane_gate > 0.0 && previous_plane_.valid) applyPlaneGate(roi_rows);
-    fuseResponse(response_left_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_left_);
-    fuseResponse(response_right_, geometric_, static_cast<float>(p.tau_g), roi_rows, response_right_);
+    if (p.plane_gate > 0.0 && fitter_.previousPlane().valid)
+      applyPlaneGate(roi_rows_, response_left_, response_right_);
+    fuseResponse(response_left_, geometric_, static_cast<float>(p.tau_g), roi_rows_, response_left_);
+    fuseResponse(response_right_, geometric_, static_cast<float>(p.tau_g), roi_rows_, response_right_);
   } else if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
     geometric_.create(proc_size_, CV_32FC1);
     geometric_.setTo(0);
   } else {
     geometric_(roi_).setTo(0);
   }
-  result.timings.response = msSince(t);
+  timings_.response = std::chrono::duration<double, std::milli>(Clock::now() - t5).count();
+}
 
-  // 6. seeds and PCA angles
-  cv::Point seed_l, seed_r;
-  float peak_l = 0.f, peak_r = 0.f;
-  findSeed(response_left_, true, seed_l, peak_l);
-  findSeed(response_right_, false, seed_r, peak_r);
-  const float pca_t = static_cast<float>(p.pca_threshold);
-  const PcaAngle pca_l =
-      pcaMarkerAngle(response_left_, seed_l, pca_t, p.template_size, pca_stack_, pca_visited_);
-  const PcaAngle pca_r =
-      pcaMarkerAngle(response_right_, seed_r, pca_t, p.template_size, pca_stack_, pca_visited_);
-  result.left.angle_valid = pca_l.valid;
-  result.right.angle_valid = pca_r.valid;
-  result.left.angle = pca_l.valid ? clampAngle(pca_l.angle, true) : left_template_.angle;
-  result.right.angle = pca_r.valid ? clampAngle(pca_r.angle, false) : right_template_.angle;
-  // A seed whose marker direction no ego-lane marker can have (e.g. the road edge line, a
-  // neighbour lane's marker) is not traced (named option, off in the paper mode).
-  if (pca_l.valid && !plausibleMarkerAngle(pca_l.angle, true)) peak_l = 0.f;
-  if (pca_r.valid && !plausibleMarkerAngle(pca_r.angle, false)) peak_r = 0.f;
-  result.timings.pca = msSince(t);
+void LaneDetector::computeAcquisitionResponses() {
+  if (!acquiring_[0] && !acquiring_[1]) return;
+  const Clock::time_point t0 = Clock::now();
+  const Params& p = params_;
+  acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
+                             acquisition_response_left_, acquisition_response_right_);
+  if (p.use_depth) {
+    if (p.plane_gate > 0.0 && fitter_.previousPlane().valid)
+      applyPlaneGate(roi_rows_, acquisition_response_left_, acquisition_response_right_);
+    for (cv::Mat* R : {&acquisition_response_left_, &acquisition_response_right_})
+      fuseResponse(*R, geometric_, static_cast<float>(p.tau_g), roi_rows_, *R);
+  }
+  timings_.matching += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
-  // 7. tracing
-  buildTrace(response_left_, seed_l, peak_l, result.left.angle, result.left);
-  buildTrace(response_right_, seed_r, peak_r, result.right.angle, result.right);
-  result.timings.tracing = msSince(t);
+void LaneDetector::fitRoadSurface() {
+  road_.valid = false;
+  if (params_.plane_fit != PlaneFit::kRoadSurface) return;
+  RoadSurfaceSettings s;
+  s.up = Eigen::Vector3d(params_.up_x, params_.up_y, params_.up_z);
+  s.max_tilt_deg = params_.plane_max_tilt_deg;
+  s.height_min = params_.plane_distance_min;
+  s.height_max = params_.plane_distance_max;
+  s.fit_range = params_.road_fit_range;
+  s.inlier_distance = params_.road_inlier_distance;
+  s.noise_growth = params_.road_noise_growth;
+  s.max_range = params_.max_depth;
+  road_surface_.fit(points_, roi_rows_, s, fitter_.previousPlane(), road_);
+}
 
-  // 8. plane
-  fitPlane(result);
-  result.timings.plane = msSince(t);
+void LaneDetector::findCandidates(int side, cv::Mat& R) {
+  // The side's best seed first (the paper's), then, with boundary_candidates > 1, the next best
+  // seeds off the lines already traced: a kerb or a rail may outscore the paint next to it.
+  const Clock::time_point t0 = Clock::now();
+  double tracing_ms = 0.0;
+  const bool left = side == 0;
+  std::vector<BoundaryCandidate>& cands = candidates_[side];
+  const int first = candidate_count_[side];
+  const int wanted = first + params_.boundary_candidates;
+  if (static_cast<int>(cands.size()) < wanted) cands.resize(wanted);
+  int& count = candidate_count_[side];
+  restore_.clear();
+  for (int k = 0; k < first; ++k)  // lines traced on another map are not sought again
+    excludeTrace(R, cands[k].trace, cv::Point(-1, -1));
+  const int half = params_.template_size / 2;
+  for (int attempt = 0; attempt <= wanted + kMaxSeedRetries && count < wanted; ++attempt) {
+    cv::Point peak;
+    float value = 0.f;
+    findBestMatch(R, left, peak, value);
+    const bool traceable = value > params_.trace_threshold;
+    if (traceable && offRoad(peak)) {
+      // road_gate: a best match on a surface that is not road is removed from R for good
+      R(cv::Rect(peak.x - half, peak.y - half, 2 * half + 1, 2 * half + 1) & roi_).setTo(0);
+      continue;
+    }
+    if (!traceable && count > first) break;
+    if (!traceable && first > 0) break;  // a further map adds traceable lines only
+    BoundaryCandidate& c = cands[count];
+    MarkerTrace& m = c.trace;
+    m.found = false;
+    m.kind = BoundaryKind::kPaint;
+    m.confidence = 0.0f;
+    m.pixels.clear();
+    m.scores.clear();
+    m.points.clear();
+    const PcaAngle pca = pcaMarkerAngle(R, peak, static_cast<float>(params_.pca_threshold),
+                                        params_.template_size, pca_stack_, pca_visited_);
+    m.angle_valid = pca.valid;
+    const LineTemplate& tmpl = left ? left_template_ : right_template_;
+    m.angle = pca.valid ? clampAngle(pca.angle, left) : tmpl.angle;
+    // a seed whose marker direction no ego-lane marker can have (the road edge line of a
+    // highway, a neighbour lane's marker) is not traced (named option, off in the paper mode)
+    float peak_value = value;
+    if (pca.valid && !plausibleMarkerAngle(pca.angle, left)) peak_value = 0.f;
+    if (count > first && !(peak_value > params_.trace_threshold)) {
+      excludeBox(R, peak);  // a further seed that is no marker: look past it
+      continue;
+    }
+    const Clock::time_point tt = Clock::now();
+    buildTrace(R, peak, peak_value, m.angle, m);
+    tracing_ms += std::chrono::duration<double, std::milli>(Clock::now() - tt).count();
+    ++count;
+    if (!traceable || count == wanted) break;
+    excludeTrace(R, m, peak);
+  }
+  // the maps are published: put back what the search removed
+  for (const auto& r : restore_) *r.first = r.second;
+  timings_.tracing += tracing_ms;
+  timings_.pca += std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - tracing_ms;
+}
 
-  // outputs and carried state
+void LaneDetector::excludeBox(cv::Mat& R, const cv::Point& centre) {
+  const int h = std::max(1, params_.template_size / 4);
+  const cv::Rect box = cv::Rect(centre.x - h, centre.y - h, 2 * h + 1, 2 * h + 1) & roi_;
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    float* r = R.ptr<float>(y);
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      if (r[x] == 0.f) continue;
+      restore_.emplace_back(r + x, r[x]);
+      r[x] = 0.f;
+    }
+  }
+}
+
+void LaneDetector::excludeTrace(cv::Mat& R, const MarkerTrace& trace, const cv::Point& peak) {
+  // boxes along the traced line (processing pixels), so that the next seed is another line
+  if (peak.x >= 0) excludeBox(R, peak);
+  const double sx = static_cast<double>(proc_size_.width) / input_size_.width;
+  const double sy = static_cast<double>(proc_size_.height) / input_size_.height;
+  for (const auto& c : trace.pixels)
+    excludeBox(R, cv::Point(static_cast<int>(std::lround((c.x + 0.5) * sx - 0.5)),
+                            static_cast<int>(std::lround((c.y + 0.5) * sy - 0.5))));
+}
+
+void LaneDetector::classifyCandidates(const Frame& frame) {
+  if (!params_.classify_boundaries || !road_.valid) {
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < candidate_count_[side]; ++k) {
+        BoundaryEvidence& ev = candidates_[side][k].evidence;
+        ev = BoundaryEvidence();
+        ev.boundary = true;  // unclassified: every traced line is taken as paint
+        ev.margin = 0.5f;
+      }
+    return;
+  }
+  ClassifierInput in;
+  in.colour = &frame.colour;
+  in.format = frame.format;
+  in.K = frame.intrinsics;
+  in.points = &points_;
+  in.scale_x = static_cast<double>(proc_size_.width) / input_size_.width;
+  in.scale_y = static_cast<double>(proc_size_.height) / input_size_.height;
+  in.plane = &road_;
+  in.frame = PlaneFrame::fromPlane(road_);
+  for (int side = 0; side < 2; ++side)
+    for (int k = 0; k < candidate_count_[side]; ++k) {
+      BoundaryCandidate& c = candidates_[side][k];
+      classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+    }
+}
+
+void LaneDetector::finish(Result& result) {
   result.template_angle_left = left_template_.angle;
   result.template_angle_right = right_template_.angle;
   result.response_left = response_left_;
@@ -278,21 +440,19 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   result.roi = roi_;
   result.scale = static_cast<double>(proc_size_.width) / input_size_.width;
   updateTemplates(result);
-  result.timings.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  return Status::kOk;
 }
 
-void LaneDetector::applyPlaneGate(const cv::Range& rows) {
+void LaneDetector::applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat& right) {
   // A match on a surface off the lane plane (a truck's stripe, a guard rail) cannot be a road
   // marking: the responses of points farther than plane_gate from the previous plane are removed
   // from both maps (named option, off in the paper mode).
-  const Eigen::Vector3f pn = previous_plane_.normal.cast<float>();
-  const float pd = static_cast<float>(previous_plane_.distance);
+  const Eigen::Vector3f pn = fitter_.previousPlane().normal.cast<float>();
+  const float pd = static_cast<float>(fitter_.previousPlane().distance);
   const float max_off = static_cast<float>(params_.plane_gate);
   for (int y = rows.start; y < rows.end; ++y) {
     const float* q = points_.ptr<float>(y);
-    float* ml = response_left_.ptr<float>(y);
-    float* mr = response_right_.ptr<float>(y);
+    float* ml = left.ptr<float>(y);
+    float* mr = right.ptr<float>(y);
     for (int x = 0; x < proc_size_.width; ++x, q += 3) {
       if (ml[x] == 0.f && mr[x] == 0.f) continue;
       if (std::fabs(pn.x() * q[0] + pn.y() * q[1] + pn.z() * q[2] + pd) > max_off)
@@ -315,17 +475,6 @@ bool LaneDetector::offRoad(const cv::Point& pixel) const {
 bool LaneDetector::plausibleMarkerAngle(double angle, bool left) const {
   const double deg = angleFromHorizontalDeg(angle, left);
   return deg >= params_.marker_angle_min_deg && deg <= params_.marker_angle_max_deg;
-}
-
-void LaneDetector::findSeed(cv::Mat& R, bool left, cv::Point& peak, float& value) {
-  // the best match; with road_gate, a best match on a surface that is not road is removed from
-  // R (a template-sized box) and the next best taken, a few times at most
-  for (int attempt = 0;; ++attempt) {
-    findBestMatch(R, left, peak, value);
-    if (attempt == kMaxSeedRetries || !(value > params_.trace_threshold) || !offRoad(peak)) return;
-    const int half = params_.template_size / 2;
-    R(cv::Rect(peak.x - half, peak.y - half, 2 * half + 1, 2 * half + 1) & roi_).setTo(0);
-  }
 }
 
 void LaneDetector::findBestMatch(const cv::Mat& R, bool left, cv::Point& peak, float& value) {
@@ -366,10 +515,11 @@ void LaneDetector::findBestMatch(const cv::Mat& R, bool left, cv::Point& peak, f
 
 bool LaneDetector::predictedBand(int side, const cv::Rect& area) {
   const int band = params_.track_seed_band;
-  if (!params_.track_lanes || band <= 0 || !previous_plane_.valid || !tracker_.valid(side))
+  const PlaneEstimate& previous = fitter_.previousPlane();
+  if (!params_.track_lanes || band <= 0 || !previous.valid || !fitter_.tracker().valid(side))
     return false;
-  const PlaneFrame frame = PlaneFrame::fromPlane(previous_plane_);
-  tracker_.sample(side, frame, 1.0, samples_);
+  const PlaneFrame frame = PlaneFrame::fromPlane(previous);
+  fitter_.tracker().sample(side, frame, 1.0, samples_);
   // per processing row, the columns within `band` of the predicted marker (lo > hi: none)
   band_lo_.assign(proc_size_.height, 1);
   band_hi_.assign(proc_size_.height, 0);
@@ -468,19 +618,15 @@ Eigen::Vector3f LaneDetector::pointAt(const cv::Point2f& c) const {
 }
 
 void LaneDetector::updateTemplates(const Result& result) {
-  // Carry the plane for the temporal options.
-  previous_plane_.valid = result.plane.valid;
-  if (result.plane.valid) {
-    previous_plane_.normal = result.plane.normal;
-    previous_plane_.distance = result.plane.distance;
-  }
   // Both sides matched above P_PCA: redraw the templates at the PCA angles for the next frame;
-  // otherwise return to the default templates.
-  const bool adapt = params_.adapt_templates && result.left.angle_valid &&
-                     result.right.angle_valid && result.left.peak_score > params_.pca_threshold &&
-                     result.right.peak_score > params_.pca_threshold;
-  const double nl = adapt ? result.left.angle : defaultLeftAngle(params_.template_angle_deg);
-  const double nr = adapt ? result.right.angle : defaultRightAngle(params_.template_angle_deg);
+  // otherwise return to the default templates. adapt_per_side: each side on its own.
+  const bool ok_l = result.left.angle_valid && result.left.peak_score > params_.pca_threshold;
+  const bool ok_r = result.right.angle_valid && result.right.peak_score > params_.pca_threshold;
+  const bool both = params_.adapt_templates && ok_l && ok_r;
+  const bool adapt_l = both || (params_.adapt_templates && params_.adapt_per_side && ok_l);
+  const bool adapt_r = both || (params_.adapt_templates && params_.adapt_per_side && ok_r);
+  const double nl = adapt_l ? result.left.angle : defaultLeftAngle(params_.template_angle_deg);
+  const double nr = adapt_r ? result.right.angle : defaultRightAngle(params_.template_angle_deg);
   if (nl != left_template_.angle || nr != right_template_.angle) {
     next_left_angle_ = nl;
     next_right_angle_ = nr;

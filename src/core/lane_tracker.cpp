@@ -53,10 +53,21 @@ double LaneTracker::Side::farthest() const {
 }
 
 void LaneTracker::reset() {
-  A_.setZero();
-  b_.setZero();
+  for (int i = 0; i < 2; ++i) {
+    A_[i].setZero();
+    b_[i].setZero();
+  }
   coef_.setZero();
   for (auto& s : sides_) s = Side();
+}
+
+void LaneTracker::resetSide(int i) {
+  A_[i].setZero();
+  b_[i].setZero();
+  sides_[i] = Side();
+  coef_[i] = 0.0;
+  if (sides_[1 - i].valid) solve();
+  else coef_.setZero();
 }
 
 LaneTracker::Vec4 LaneTracker::basis(int side, double f) {
@@ -69,20 +80,20 @@ LaneTracker::Vec4 LaneTracker::basis(int side, double f) {
 double LaneTracker::lateral(int i, double f) const { return coef_.dot(basis(i, f)); }
 
 void LaneTracker::shift(double delta) {
-  // the data moved sideways by delta: b = sum w phi l -> b + delta sum w phi, and
-  // sum w phi = A e0 + A e1 (the intercept entries of phi are the side indicators)
-  b_ += delta * (A_.col(0) + A_.col(1));
+  // the data moved sideways by delta: b = sum w phi l -> b + delta sum w phi, and for side i
+  // sum w phi = A_i e_i (the intercept entries of phi are the side indicators)
+  for (int i = 0; i < 2; ++i) b_[i] += delta * A_[i].col(i);
   coef_[0] += delta;
   coef_[1] += delta;
 }
 
 void LaneTracker::solve() {
-  Mat4 M = A_;
+  Mat4 M = A_[0] + A_[1];
   M(0, 0) += 1e-9;
   M(1, 1) += 1e-9;
   M(2, 2) += 1e-9;
   M(3, 3) += kCurvatureRidge;
-  coef_ = M.ldlt().solve(b_);
+  coef_ = M.ldlt().solve(b_[0] + b_[1]);
   if (!coef_.allFinite()) reset();
 }
 
@@ -97,7 +108,7 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
   }
   auto enough = [&](int i) { return static_cast<int>(measurements_[i].size()) >= params.min_points; };
 
-  // Gate per side; a stale side whose new evidence disagrees starts the model over.
+  // Gate per side; a stale side whose new evidence disagrees starts its model over.
   bool gate[2] = {false, false};
   for (int i = 0; i < 2; ++i) {
     if (!enough(i) || !established(i)) continue;
@@ -105,9 +116,8 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
     for (const auto& q : measurements_[i]) inliers += std::fabs(q.y() - lateral(i, q.x())) <= params.gate;
     gate[i] = true;
     if (2 * inliers < static_cast<int>(measurements_[i].size()) && sides_[i].age >= kStaleAge) {
-      reset();
-      gate[0] = gate[1] = false;
-      break;
+      resetSide(i);
+      gate[i] = false;
     }
   }
 
@@ -137,8 +147,10 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
     shift(have_shift[0] ? side_shift[0] : side_shift[1]);
   }
 
-  A_ *= params.memory;
-  b_ *= params.memory;
+  for (int i = 0; i < 2; ++i) {
+    A_[i] *= params.memory;
+    b_[i] *= params.memory;
+  }
   bool changed = false;
   for (int i = 0; i < 2; ++i) {
     Side& side = sides_[i];
@@ -150,8 +162,8 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
         const double r = std::max(q.x(), kNearRange) / kNearRange;
         const double w = 1.0 / (r * r);
         const Vec4 phi = basis(i, q.x());
-        A_.noalias() += w * phi * phi.transpose();
-        b_.noalias() += w * phi * q.y();
+        A_[i].noalias() += w * phi * phi.transpose();
+        b_[i].noalias() += w * phi * q.y();
         near = std::min(near, q.x());
         far = std::max(far, q.x());
         ++accepted;
@@ -166,7 +178,7 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
       side.valid = true;
       changed = true;
     } else if (side.valid && ++side.age > params.max_age) {
-      side = Side();  // its information decays out of the sums
+      resetSide(i);
     }
   }
   if (changed) solve();

@@ -9,8 +9,9 @@
 namespace rgbd_lane_detector {
 namespace {
 
-const cv::Scalar kLeftColour(60, 220, 60);     // green
-const cv::Scalar kRightColour(0, 150, 255);    // orange
+const cv::Scalar kLeftColour(60, 220, 60);     // green: left paint
+const cv::Scalar kRightColour(0, 150, 255);    // orange: right paint
+const cv::Scalar kEdgeColour(60, 40, 255);     // red: a road edge (kerb, rail, unpainted edge)
 const cv::Scalar kPlaneColour(255, 200, 0);    // cyan-blue
 const cv::Scalar kRoiColour(200, 200, 200);
 
@@ -21,11 +22,19 @@ bool project(const Intrinsics& K, const Eigen::Vector3d& p, cv::Point& out) {
   return true;
 }
 
-void drawMarker(cv::Mat& out, const MarkerTrace& m, const cv::Scalar& colour, int box) {
+void drawMarker(cv::Mat& out, const MarkerTrace& m, const cv::Scalar& paint_colour, int box) {
   if (m.seed.x < 0) return;
+  const bool edge = m.found && m.kind == BoundaryKind::kRoadEdge;
+  const cv::Scalar colour = edge ? kEdgeColour : paint_colour;
   for (size_t i = 1; i < m.pixels.size(); ++i)
-    cv::line(out, m.pixels[i - 1], m.pixels[i], colour, 2, cv::LINE_AA);
-  for (const auto& p : m.pixels) cv::circle(out, p, 3, colour, m.found ? -1 : 1, cv::LINE_AA);
+    cv::line(out, m.pixels[i - 1], m.pixels[i], colour, edge ? 3 : 2, cv::LINE_AA);
+  for (const auto& p : m.pixels) {
+    if (edge) {  // road edges: squares
+      cv::rectangle(out, p - cv::Point2f(3, 3), p + cv::Point2f(3, 3), colour, -1);
+    } else {
+      cv::circle(out, p, 3, colour, m.found ? -1 : 1, cv::LINE_AA);
+    }
+  }
   const cv::Point2f half(0.5f * box, 0.5f * box);
   cv::rectangle(out, m.seed - half, m.seed + half, colour, 1);
   const cv::Point2f dir(static_cast<float>(std::cos(m.angle)), static_cast<float>(std::sin(m.angle)));
@@ -92,10 +101,14 @@ void drawOverlay(const cv::Mat& colour, PixelFormat format, const Intrinsics& K,
   drawMarker(out, result.left, kLeftColour, box);
   drawMarker(out, result.right, kRightColour, box);
 
-  char text[160];
-  std::snprintf(text, sizeof(text), "L %.2f (%d pts)  R %.2f (%d pts)  %.1f ms",
-                result.left.peak_score, result.left.num_valid_points, result.right.peak_score,
-                result.right.num_valid_points, result.timings.total);
+  char text[200];
+  auto sideText = [](const MarkerTrace& m) {
+    return !m.found ? "-" : m.kind == BoundaryKind::kRoadEdge ? "road edge" : "paint";
+  };
+  std::snprintf(text, sizeof(text), "L %s %.2f (%d pts)  R %s %.2f (%d pts)  %.1f ms",
+                sideText(result.left), result.left.confidence, result.left.num_valid_points,
+                sideText(result.right), result.right.confidence, result.right.num_valid_points,
+                result.timings.total);
   cv::putText(out, text, cv::Point(10, 20), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
               1, cv::LINE_AA);
   if (result.plane.valid) {
@@ -106,6 +119,26 @@ void drawOverlay(const cv::Mat& colour, PixelFormat format, const Intrinsics& K,
   }
   cv::putText(out, text, cv::Point(10, 40), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255),
               1, cv::LINE_AA);
+}
+
+void drawCandidates(const BoundaryCandidate* candidates, int count, cv::Mat& out) {
+  for (int k = 0; k < count; ++k) {
+    const BoundaryCandidate& c = candidates[k];
+    const std::vector<cv::Point2f>& px = c.trace.pixels;
+    if (px.empty()) continue;
+    const BoundaryEvidence& ev = c.evidence;
+    const cv::Scalar colour = !ev.boundary                            ? cv::Scalar(160, 160, 160)
+                              : ev.kind == BoundaryKind::kRoadEdge ? cv::Scalar(255, 0, 255)
+                                                                   : cv::Scalar(255, 255, 0);
+    for (size_t i = 1; i < px.size(); ++i) cv::line(out, px[i - 1], px[i], colour, 1, cv::LINE_AA);
+    char text[160];
+    std::snprintf(text, sizeof(text), "%d %s%s w%.0f h%.0f/%.0f/%.0f r%.0f o%.2f n%d/%d", k,
+                  ev.reason, c.usable ? "" : " (x)", 100.0 * ev.width, 100.0 * ev.inner_height,
+                  100.0 * ev.line_height, 100.0 * ev.outer_height, ev.ridge_contrast, c.offset,
+                  static_cast<int>(c.road.size()), static_cast<int>(px.size()));
+    const cv::Point2f at = px[px.size() / 2] + cv::Point2f(6.f, 0.f);
+    cv::putText(out, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.35, colour, 1, cv::LINE_AA);
+  }
 }
 
 }  // namespace rgbd_lane_detector

@@ -19,21 +19,25 @@ Params Params::improved() {
   p.ego_lane_seeds = true;
   p.road_gate = true;
   p.plane_gate = 0.3;
-  p.plane_fit = PlaneFit::kLeastSquares;
+  p.plane_fit = PlaneFit::kRoadSurface;
   p.plane_max_tilt_deg = 30.0;
   p.plane_distance_min = 0.3;
   p.plane_distance_max = 5.0;
   p.fill_depth_holes = 0;
   p.snap_to_plane = true;
-  p.lane_width_min = 2.0;
+  p.lane_width_min = 0.8;
   p.lane_width_max = 5.5;
-  p.report_only_complete = true;
+  p.report_only_complete = false;
   p.track_lanes = true;
   p.track_seed_band = 24;
   p.marker_angle_min_deg = 20.0;
-  p.marker_angle_max_deg = 80.0;
+  p.marker_angle_max_deg = 88.0;
   p.adaptive_tau_c = true;
   p.tau_c_offset = 30;
+  p.boundary_candidates = 3;
+  p.acquisition_angle_deg = 70.0;
+  p.adapt_per_side = true;
+  p.classify_boundaries = true;
   return p;
 }
 
@@ -76,8 +80,12 @@ Params sanitize(const Params& in) {
   p.trace_threshold = clampFinite(p.trace_threshold, 0.0, 10.0, d.trace_threshold);
   p.max_trace_steps = std::min(std::max(p.max_trace_steps, 1), 100000);
   p.min_marker_points = std::min(std::max(p.min_marker_points, 1), 100000);
-  if (p.plane_fit != PlaneFit::kThreePoint && p.plane_fit != PlaneFit::kLeastSquares)
+  if (p.plane_fit != PlaneFit::kThreePoint && p.plane_fit != PlaneFit::kLeastSquares &&
+      p.plane_fit != PlaneFit::kRoadSurface)
     p.plane_fit = d.plane_fit;
+  p.road_fit_range = clampFinite(p.road_fit_range, 2.0, 200.0, d.road_fit_range);
+  p.road_inlier_distance = clampFinite(p.road_inlier_distance, 0.005, 1.0, d.road_inlier_distance);
+  p.road_noise_growth = clampFinite(p.road_noise_growth, 0.0, 0.1, d.road_noise_growth);
   p.plane_max_tilt_deg = clampFinite(p.plane_max_tilt_deg, 0.1, 90.0, d.plane_max_tilt_deg);
   p.plane_distance_min = clampFinite(p.plane_distance_min, 0.0, 1e3, d.plane_distance_min);
   p.plane_distance_max =
@@ -98,12 +106,25 @@ Params sanitize(const Params& in) {
   p.plane_gate = clampFinite(p.plane_gate, 0.0, 1e3, d.plane_gate);
   p.fill_depth_holes = std::min(std::max(p.fill_depth_holes, 0), 10000);
   p.plane_smoothing = clampFinite(p.plane_smoothing, 0.0, 0.99, d.plane_smoothing);
+
+  p.boundary_candidates = std::min(std::max(p.boundary_candidates, 1), 8);
+  p.acquisition_angle_deg = clampFinite(p.acquisition_angle_deg, 0.0, 85.0, d.acquisition_angle_deg);
+  if (p.acquisition_angle_deg > 0.0 && p.acquisition_angle_deg < 5.0) p.acquisition_angle_deg = 5.0;
+  p.paint_contrast = clampFinite(p.paint_contrast, 0.0, 5.0, d.paint_contrast);
+  p.paint_width_min = clampFinite(p.paint_width_min, 0.0, 2.0, d.paint_width_min);
+  p.paint_width_max = clampFinite(p.paint_width_max, p.paint_width_min, 5.0, d.paint_width_max);
+  p.kerb_height = clampFinite(p.kerb_height, 0.005, 1.0, d.kerb_height);
+  p.edge_chroma = clampFinite(p.edge_chroma, 0.0, 1.0, d.edge_chroma);
+  p.boundary_offset_min = clampFinite(p.boundary_offset_min, 0.0, 10.0, d.boundary_offset_min);
+  p.boundary_offset_max =
+      clampFinite(p.boundary_offset_max, p.boundary_offset_min, 20.0, d.boundary_offset_max);
   return p;
 }
 
 bool sameTemplates(const Params& a, const Params& b) {
   return a.template_size == b.template_size && a.template_line_width == b.template_line_width &&
-         a.template_angle_deg == b.template_angle_deg;
+         a.template_angle_deg == b.template_angle_deg &&
+         a.acquisition_angle_deg == b.acquisition_angle_deg;
 }
 
 }  // namespace rgbd_lane_detector

@@ -90,6 +90,9 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       RLD_FIELD(member, max_trace_steps),
       RLD_FIELD(member, min_marker_points),
       RLD_FIELD(enumeration, plane_fit),
+      RLD_FIELD(member, road_fit_range),
+      RLD_FIELD(member, road_inlier_distance),
+      RLD_FIELD(member, road_noise_growth),
       RLD_FIELD(member, plane_max_tilt_deg),
       RLD_FIELD(member, plane_distance_min),
       RLD_FIELD(member, plane_distance_max),
@@ -111,6 +114,17 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       RLD_FIELD(member, track_max_age),
       RLD_FIELD(member, track_gate),
       RLD_FIELD(member, track_seed_band),
+      RLD_FIELD(member, boundary_candidates),
+      RLD_FIELD(member, acquisition_angle_deg),
+      RLD_FIELD(boolean, adapt_per_side),
+      RLD_FIELD(boolean, classify_boundaries),
+      RLD_FIELD(member, paint_contrast),
+      RLD_FIELD(member, paint_width_min),
+      RLD_FIELD(member, paint_width_max),
+      RLD_FIELD(member, kerb_height),
+      RLD_FIELD(member, edge_chroma),
+      RLD_FIELD(member, boundary_offset_min),
+      RLD_FIELD(member, boundary_offset_max),
   };
   return table;
 }
@@ -133,7 +147,8 @@ std::string trim(const std::string& s) {
 bool parseValue(const std::string& text, double& v) {
   static const std::map<std::string, double> words = {
       {"true", 1},  {"True", 1},      {"TRUE", 1},     {"false", 0},       {"False", 0},
-      {"FALSE", 0}, {"near_high", 0}, {"far_high", 1}, {"three_point", 0}, {"least_squares", 1}};
+      {"FALSE", 0}, {"near_high", 0}, {"far_high", 1}, {"three_point", 0}, {"least_squares", 1},
+      {"road_surface", 2}};
   const auto w = words.find(text);
   if (w != words.end()) {
     v = w->second;

@@ -302,8 +302,10 @@ void fillLanePlane(const Result& result, const std_msgs::Header& header,
     msg.normal = geometry_msgs::Vector3();
     msg.distance = 0.0;
     msg.rms_error = 0.f;
+    msg.valid_range = 0.f;
     return;
   }
+  msg.valid_range = static_cast<float>(plane.range);
   Eigen::Vector3d n = plane.normal;
   double d = plane.distance;
   transformPlane(T, n, d);
@@ -326,6 +328,10 @@ void fillLaneMarkings(const Result& result, const std_msgs::Header& header,
   msg.right_score = reported(result.right) ? result.right.peak_score : 0.f;
   msg.left_angle = reported(result.left) ? static_cast<float>(result.left.angle) : 0.f;
   msg.right_angle = reported(result.right) ? static_cast<float>(result.right.angle) : 0.f;
+  msg.left_kind = static_cast<uint8_t>(result.left.kind);
+  msg.right_kind = static_cast<uint8_t>(result.right.kind);
+  msg.left_confidence = reported(result.left) ? result.left.confidence : 0.f;
+  msg.right_confidence = reported(result.right) ? result.right.confidence : 0.f;
 }
 
 void fillLanePoints(const Result& result, const std_msgs::Header& header,
@@ -338,23 +344,25 @@ void fillLanePoints(const Result& result, const std_msgs::Header& header,
   msg.header = header;
   msg.height = 1;
   sensor_msgs::PointCloud2Modifier modifier(msg);
-  modifier.setPointCloud2Fields(5, "x", 1, sensor_msgs::PointField::FLOAT32,       //
+  modifier.setPointCloud2Fields(6, "x", 1, sensor_msgs::PointField::FLOAT32,       //
                                 "y", 1, sensor_msgs::PointField::FLOAT32,          //
                                 "z", 1, sensor_msgs::PointField::FLOAT32,          //
                                 "score", 1, sensor_msgs::PointField::FLOAT32,      //
-                                "side", 1, sensor_msgs::PointField::UINT8);
-  msg.point_step = 20;  // 17 bytes of fields, padded so each point's floats stay aligned
+                                "side", 1, sensor_msgs::PointField::UINT8,         //
+                                "kind", 1, sensor_msgs::PointField::UINT8);
+  msg.point_step = 20;  // 18 bytes of fields, padded so each point's floats stay aligned
   modifier.resize(n);
   msg.is_bigendian = kHostBigEndian;
   msg.is_dense = true;
   if (n == 0) return;
 
   sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y"), z(msg, "z"), score(msg, "score");
-  sensor_msgs::PointCloud2Iterator<uint8_t> side(msg, "side");
+  sensor_msgs::PointCloud2Iterator<uint8_t> side(msg, "side"), kind(msg, "kind");
   for (int s = 0; s < 2; ++s) {
     const MarkerTrace& m = *sides[s];
     if (!reported(m)) continue;
     const uint8_t side_value = static_cast<uint8_t>(s == 0 ? Side::kLeft : Side::kRight);
+    const uint8_t kind_value = static_cast<uint8_t>(m.kind);
     for (size_t i = 0; i < m.points.size(); ++i) {
       if (!finite(m.points[i])) continue;
       const Eigen::Vector3d q = T * m.points[i].cast<double>();
@@ -363,7 +371,8 @@ void fillLanePoints(const Result& result, const std_msgs::Header& header,
       *z = static_cast<float>(q.z());
       *score = i < m.scores.size() ? m.scores[i] : 0.f;
       *side = side_value;
-      ++x, ++y, ++z, ++score, ++side;
+      *kind = kind_value;
+      ++x, ++y, ++z, ++score, ++side, ++kind;
     }
   }
 }
@@ -389,7 +398,7 @@ void fillLaneMarkers(const Result& result, const std_msgs::Header& header,
   }
   msg.markers.push_back(std::move(patch));
 
-  // marker polylines (left green, right orange, as in the debug overlay)
+  // boundary polylines (paint: left green, right orange; road edges red, as in the debug overlay)
   const MarkerTrace* sides[2] = {&result.left, &result.right};
   for (int s = 0; s < 2; ++s) {
     visualization_msgs::Marker line = baseMarker(header, kMarkingsNs, s == 0 ? kLeftId : kRightId);
@@ -398,7 +407,9 @@ void fillLaneMarkers(const Result& result, const std_msgs::Header& header,
       line.action = visualization_msgs::Marker::ADD;
       line.type = visualization_msgs::Marker::LINE_STRIP;
       line.scale.x = 0.1;  // line width (m)
-      line.color = s == 0 ? rgba(0.f, 1.f, 0.f, 1.f) : rgba(1.f, 0.55f, 0.f, 1.f);
+      line.color = sides[s]->kind == BoundaryKind::kRoadEdge ? rgba(1.f, 0.15f, 0.25f, 1.f)
+                   : s == 0                                  ? rgba(0.f, 1.f, 0.f, 1.f)
+                                                             : rgba(1.f, 0.55f, 0.f, 1.f);
     } else {
       line.points.clear();
     }

@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   std::string out_dir, video, overlay_format = "jpg";
   int overlay_every = 1;
   double video_fps = 10.0;
-  bool plane_check = false, quiet = false;
+  bool draw_candidates = false, plane_check = false, quiet = false;
   tools::CommandLine cl(
       "run_dataset",
       "Run the lane detector over a dataset (SYNTHIA-SEQS, TUM, KITTI folder or rosbag).\n"
@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
   cl.add("video-fps", "frame rate of the overlay video (default 10)", &video_fps);
   cl.addFlag("plane-check", "compare each plane with the depth of the road region (LiDAR)",
              &plane_check);
+  cl.addFlag("candidates", "draw every traced candidate line and its verdict on the overlays",
+             &draw_candidates);
   cl.addFlag("quiet", "no progress bar", &quiet);
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
@@ -174,6 +176,13 @@ int main(int argc, char** argv) {
     const bool want_image = overlay_every > 0 && (frames - 1) % overlay_every == 0;
     if (want_image || video != "none") {
       drawOverlay(frame.colour, frame.format, frame.intrinsics, result, detector.params(), overlay);
+      if (draw_candidates) {
+        for (int side = 0; side < 2; ++side) {
+          int count = 0;
+          const BoundaryCandidate* c = detector.candidates(side, count);
+          drawCandidates(c, count, overlay);
+        }
+      }
       if (want_image)
         cv::imwrite((fs::path(out_dir) / "overlays" / (frame.name + "." + overlay_format)).string(),
                     overlay);

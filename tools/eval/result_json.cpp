@@ -12,6 +12,9 @@ void appendTrace(std::string& out, const char* name, const MarkerTrace& m) {
   out += name;
   out += "\": {\"found\": ";
   out += m.found ? "true" : "false";
+  out += ", \"kind\": ";
+  out += m.found ? jsonString(boundaryKindName(m.kind)) : "null";
+  out += ", \"confidence\": " + jsonNumber(m.confidence);
   out += ", \"peak_score\": " + jsonNumber(m.peak_score);
   out += ", \"angle\": " + jsonNumber(m.angle);
   out += ", \"angle_valid\": ";
@@ -89,7 +92,8 @@ std::string resultToJson(int frame, const std::string& name, double stamp, const
   out += ", \"timings_ms\": {\"preprocess\": " + jsonNumber(t.preprocess) +
          ", \"points\": " + jsonNumber(t.points) + ", \"normals\": " + jsonNumber(t.normals) +
          ", \"matching\": " + jsonNumber(t.matching) + ", \"response\": " + jsonNumber(t.response) +
-         ", \"pca\": " + jsonNumber(t.pca) + ", \"tracing\": " + jsonNumber(t.tracing) +
+         ", \"road\": " + jsonNumber(t.road) + ", \"pca\": " + jsonNumber(t.pca) +
+         ", \"tracing\": " + jsonNumber(t.tracing) + ", \"classify\": " + jsonNumber(t.classify) +
          ", \"plane\": " + jsonNumber(t.plane) + ", \"total\": " + jsonNumber(t.total) + "}";
   if (r.status == Status::kOk) {
     const PlaneEstimate& p = r.plane;
@@ -98,7 +102,7 @@ std::string resultToJson(int frame, const std::string& name, double stamp, const
     if (p.valid) {
       out += ", \"normal\": [" + jsonNumber(p.normal.x()) + ", " + jsonNumber(p.normal.y()) + ", " +
              jsonNumber(p.normal.z()) + "], \"distance\": " + jsonNumber(p.distance) +
-             ", \"rms\": " + jsonNumber(p.rms);
+             ", \"rms\": " + jsonNumber(p.rms) + ", \"range\": " + jsonNumber(p.range);
     }
     out += "}, ";
     appendTrace(out, "left", r.left);

@@ -133,7 +133,8 @@ Eigen::Vector3d upAxisFromTransform(const Eigen::Isometry3d& T_optical_up);
 void fillLanePlane(const Result& result, const std_msgs::Header& header,
                    const Eigen::Isometry3d& T, LanePlane& msg);
 
-/// Both markers' 3D polylines (valid points only; a side that is not found is empty, 0 score).
+/// Both boundaries' 3D polylines (valid points only; a side that is not found is empty, 0 score,
+/// 0 confidence), their kinds (paint / road edge) and confidences.
 void fillLaneMarkings(const Result& result, const std_msgs::Header& header,
                       const Eigen::Isometry3d& T, LaneMarkings& msg);
 
@@ -142,8 +143,9 @@ enum class Side : uint8_t { kLeft = 0, kRight = 1 };
 
 /**
  * @brief lane_points: one point per traced point with valid depth of each found side:
- * float32 x, y, z, float32 score, uint8 side (0 left, 1 right), padded to 20 bytes so every
- * float is 4-byte aligned. height 1, is_dense.
+ * float32 x, y, z, float32 score, uint8 side (0 left, 1 right), uint8 kind (LaneMarkings
+ * KIND_PAINT 0, KIND_ROAD_EDGE 1), padded to 20 bytes so every float is 4-byte aligned.
+ * height 1, is_dense.
  */
 void fillLanePoints(const Result& result, const std_msgs::Header& header,
                     const Eigen::Isometry3d& T, sensor_msgs::PointCloud2& msg);

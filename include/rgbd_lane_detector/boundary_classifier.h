@@ -1,0 +1,104 @@
+/**
+ * @file boundary_classifier.h
+ * @brief What a traced line is: paint, a road edge, or no lane boundary at all (the improved
+ * mode's candidate check, after tracing and before the lane fit).
+ *
+ * Paint lies flat on the road surface (within a few centimetres) and is a bright band, brighter
+ * than the asphalt on both sides, 7-45 cm wide (single and double lines). A road edge is a
+ * height step (kerb, guard-rail foot: the surface beyond it is raised), or a narrow bright
+ * line that is not paint (a rail head is 4-7 cm), or a change of surface (asphalt to grass:
+ * the colour changes, not only the brightness; a shadow's edge also changes the colour, but
+ * toward blue on its dark side, lit by the sky, and is not taken for an edge). Anything well
+ * above the road (a truck's stripe, a guard rail's beam) and anything wider than paint (a zebra
+ * stripe, an arrow head) is no boundary.
+ */
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/lane_tracker.h"
+#include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/// What the classifier measured on one traced line (medians over its measured rows).
+struct BoundaryEvidence {
+  static constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  bool boundary = false;        ///< a lane boundary (paint or road edge); false: reject
+  BoundaryKind kind = BoundaryKind::kPaint;
+  const char* reason = "";      ///< static text: why it was classified so (debugging, overlays)
+  int rows = 0;                 ///< rows whose profile was measured
+  int ridge_rows = 0;           ///< of those, rows where the line is a bright band
+  float ridge_contrast = kNaN;  ///< grey levels the line is brighter than the brighter side
+  float step_contrast = kNaN;   ///< grey levels the outer side is brighter than the inner one
+  float chroma_step = kNaN;     ///< rg-chromaticity distance between the two sides (0 where the
+                                ///< darker side is bluer: a shadow's edge)
+  float width = kNaN;           ///< width of the bright band (m), where resolved
+  int paint_rows = 0;           ///< rows with a band of paint width near the trace
+  int narrow_rows = 0;          ///< rows whose nearest band is narrower than paint
+  int wide_rows = 0;            ///< rows whose nearest band is wider than paint
+  float shift = 0.0f;           ///< the paint's offset from the traced line (m, image right)
+  float line_height = kNaN;     ///< the line's depth above the road (m)
+  float inner_height = kNaN;    ///< the surface on the vehicle's side of it, above the road (m)
+  float outer_height = kNaN;    ///< the surface beyond it, above the road (m)
+  float margin = 0.0f;          ///< in [0, 1]: how clearly the measurements support the kind
+};
+
+/// The frame a classifier reads (views; nothing is copied).
+struct ClassifierInput {
+  const cv::Mat* colour = nullptr;     ///< input colour image
+  PixelFormat format = PixelFormat::kBgr8;
+  Intrinsics K;                        ///< of the input image
+  const cv::Mat* points = nullptr;     ///< CV_32FC3 organised points at the processing scale
+  double scale_x = 1.0, scale_y = 1.0; ///< processing / input resolution
+  PlaneEstimate const* plane = nullptr;  ///< road plane (valid)
+  PlaneFrame frame;                    ///< its road coordinates (forward, lateral right)
+};
+
+/**
+ * @brief Classifies traced lines as paint, road edge or no boundary from the colour profile
+ * across each traced point and the depth beside it. Reuses its buffers (no allocation in
+ * steady state).
+ */
+class BoundaryClassifier {
+ public:
+  /**
+   * @brief Classify one traced line.
+   * @param[in] in frame views.
+   * @param[in,out] pixels traced centroids (input pixels), near to far; moved onto the paint
+   *                when a painted band runs beside the traced line.
+   * @param[in] left true for a line left of the vehicle (its outer side is to the left).
+   * @param[in] p thresholds (paint_contrast, paint_width_min/max, kerb_height, edge_chroma).
+   * @param[out] ev measurements and verdict.
+   */
+  void classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels, bool left,
+                const Params& p, BoundaryEvidence& ev);
+
+ private:
+  /// Grey value (BT.601 luma) and rg chromaticity of an input pixel.
+  void sample(const ClassifierInput& in, int u, int v, float& grey, float& r, float& g) const;
+  /// Height above the road of the depth at an input pixel (NaN without depth).
+  float heightAt(const ClassifierInput& in, int u, int v) const;
+
+  /// A bright band of the current profile: half-peak edges (profile offsets, sub-pixel).
+  struct Band {
+    double lo = 0.0, hi = 0.0;
+    float peak = 0.0f;
+    bool open = false;  ///< reaches the end of the profile (width unknown)
+  };
+  /// Segment profile_ (centre index @p W) into bands above @p low over the background @p base.
+  void findBands(int W, float base, float low);
+  /// Append the band of profile offsets [a, b] (its peak and half-peak edges).
+  void addBand(int a, int b, float base, bool open, int W);
+
+  std::vector<float> profile_;
+  std::vector<Band> bands_;
+  std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
+};
+
+}  // namespace rgbd_lane_detector

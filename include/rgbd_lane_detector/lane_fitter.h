@@ -1,0 +1,109 @@
+/**
+ * @file lane_fitter.h
+ * @brief Stage 8: the lane plane and the lane boundaries from the traced lines (METHOD.md
+ * section 4 and the named improvements).
+ *
+ * Paper mode: the plane through three marker points (or robust least squares over every marker
+ * point), both sides or nothing. Improved mode: the road plane comes from depth (RoadSurface),
+ * each side's boundary is the nearest traced line that is a lane boundary (BoundaryClassifier),
+ * tracked in the road plane (LaneTracker) and reported on its own with its kind and confidence.
+ */
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/boundary_classifier.h"
+#include "rgbd_lane_detector/lane_tracker.h"
+#include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/// One traced line of one side and what the classifier found it to be.
+struct BoundaryCandidate {
+  MarkerTrace trace;           ///< seed, angle, centroids (input pixels), scores, depth points
+  BoundaryEvidence evidence;   ///< kind, or not a boundary
+  std::vector<Eigen::Vector2d> road;  ///< (forward, lateral) of its points in the road plane
+  double offset = 0.0;         ///< lateral offset of its line at the camera (m, + right)
+  double heading = 0.0;        ///< its direction in the road plane (rad, + toward the right)
+  bool usable = false;         ///< a boundary on its side, in range, along the road
+};
+
+/// Per-frame inputs of the fitter (views).
+struct LaneFitInput {
+  Intrinsics K;                     ///< of the input image (the traces' pixel coordinates)
+  const PlaneEstimate* road = nullptr;  ///< road plane from depth (improved mode; may be invalid)
+  double road_range = 0.0;          ///< distance ahead up to which the road plane holds (m)
+  /// Candidates of each side (0 left, 1 right), best seed first; [side][0..counts[side]).
+  std::array<std::vector<BoundaryCandidate>, 2>* candidates = nullptr;
+  std::array<int, 2> counts{{0, 0}};
+};
+
+/**
+ * @brief Fits the lane plane and reports the lane boundaries of one frame, carrying the lane
+ * model between frames. No allocation in steady state.
+ */
+class LaneFitter {
+ public:
+  LaneFitter();
+  /// Replace the parameters (already sanitised); carried state is kept.
+  void setParams(const Params& params) { params_ = params; }
+  /// Forget the carried plane and lane model.
+  void reset();
+
+  /**
+   * @brief Fit one frame.
+   * @param[in] in candidates (improved mode) or the single traced line per side (paper mode),
+   *            and the road plane from depth when the mode uses it.
+   * @param[in,out] result receives left, right and plane.
+   */
+  void fit(const LaneFitInput& in, Result& result);
+
+  /// Plane of the previous frame (invalid: none).
+  const PlaneEstimate& previousPlane() const { return previous_plane_; }
+  /// The lane model (for the seed search near the predicted boundaries).
+  const LaneTracker& tracker() const { return tracker_; }
+
+  /**
+   * @brief Road-plane geometry of a candidate: its points (depth where the depth lies on the
+   * road, else the pixel's ray met with the plane within @p road_range), its offset at the
+   * camera and heading (robust line through them), and whether it can be this side's boundary.
+   * @param[in] frame road coordinates of the plane.
+   * @param[in] left side of the candidate.
+   * @param[in,out] c candidate (trace and evidence in; road, offset, heading, usable out).
+   */
+  void measure(const Intrinsics& K, const PlaneEstimate& plane, const PlaneFrame& frame,
+               double road_range, bool left, BoundaryCandidate& c) const;
+
+ private:
+  void fitMarkerPlane(const LaneFitInput& in, Result& result);
+  void fitBoundaries(const LaneFitInput& in, Result& result);
+  /// Index of the candidate chosen as side @p i's boundary this frame, or -1.
+  int choose(int i, const LaneFitInput& in) const;
+  bool planePlausible(const PlaneEstimate& plane) const;
+  void snapToPlane(const Intrinsics& K, const PlaneEstimate& plane, MarkerTrace& m) const;
+  /// Median lane width (m) between the two sides' points, NaN when they do not overlap.
+  double laneWidth(const PlaneEstimate& plane, const MarkerTrace& L, const MarkerTrace& R) const;
+  void rejectIncomplete(Result& result) const;
+  void smoothPlane(PlaneEstimate& plane) const;
+  void copyTrace(const MarkerTrace& from, MarkerTrace& to) const;
+
+  Params params_;
+  PlaneEstimate previous_plane_;
+  LaneTracker tracker_;
+  std::array<float, 2> kind_score_{{0.f, 0.f}};  ///< > 0 paint, < 0 road edge (decaying vote)
+  std::array<float, 2> evidence_margin_{{0.f, 0.f}};  ///< classifier margin, smoothed
+  std::array<int, 2> disagree_{{0, 0}};        ///< frames the nearest boundary left the track
+  std::vector<Eigen::Vector3f> fit_points_;
+  std::vector<Eigen::Vector3f> samples_;
+  std::array<std::vector<Eigen::Vector3f>, 2> evidence_;
+  mutable std::vector<double> width_samples_;
+  mutable std::vector<Eigen::Vector2d> line_points_;
+  const std::vector<Eigen::Vector3f> none_;
+};
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,95 @@
+/**
+ * @file road_surface.h
+ * @brief The road surface from depth: a robust plane fitted every frame to the depth of the
+ * searched rows, markers or not (the improved mode; the paper fits its plane to three marker
+ * points, lane_plane.h).
+ *
+ * Real roads are not one plane (crests, sags, camber). The plane is fitted to the depth within
+ * RoadSurfaceSettings::fit_range ahead of the camera, where one plane holds for any road a
+ * vehicle drives on, and the range over which it holds is measured beyond that: the distance at
+ * which the road's depth first leaves the plane by more than the inlier band (validRange()).
+ * Marker pixels are placed on the plane only within that range.
+ */
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/// Settings of the road surface fit (filled from Params by the detector).
+struct RoadSurfaceSettings {
+  Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);  ///< road up axis, optical frame
+  double max_tilt_deg = 30.0;   ///< largest angle between the plane normal and @c up
+  double height_min = 0.3;      ///< camera height above the road, lower bound (m)
+  double height_max = 5.0;      ///< upper bound (m)
+  double fit_range = 20.0;      ///< points up to this distance ahead fit the plane (m)
+  double inlier_distance = 0.04;  ///< residual bound of an inlier at the camera (m)
+  double noise_growth = 0.0015;   ///< the bound grows by this times z^2 (depth noise, 1/m)
+  double max_range = 80.0;      ///< farthest depth looked at for the valid range (m)
+  int target_samples = 4000;    ///< depth samples drawn from the searched rows (grid)
+};
+
+/**
+ * @brief Robust road plane from an organised point matrix.
+ *
+ * Samples the points of the searched rows on a regular grid. When the previous frame's plane is
+ * given, the samples within a wide band of it are refitted (iteratively reweighted least
+ * squares, Tukey weights); when that fails, or without a previous plane, RANSAC over the near
+ * samples (deterministic sequence, hypotheses must be road-like: tilt and height bounds) finds
+ * the plane, then the same refit. Samples in the central corridor ahead of the camera weigh
+ * more: the road lies ahead, sidewalks and cars to the sides. No allocation once the sample
+ * buffers have grown.
+ */
+class RoadSurface {
+ public:
+  /**
+   * @brief Fit the road plane.
+   * @param[in] points CV_32FC3 organised points (optical frame, NaN = no depth).
+   * @param[in] rows rows of @p points that show the road (the searched rows).
+   * @param[in] settings fit settings.
+   * @param[in] previous previous frame's road plane (invalid: none).
+   * @param[out] plane the plane (support = a subsample of its inliers, rms their residual);
+   *             invalid when the depth shows no road.
+   * @return plane.valid.
+   */
+  bool fit(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& settings,
+           const PlaneEstimate& previous, PlaneEstimate& plane);
+
+  /// Distance ahead (m, along the optical axis) up to which the last plane holds.
+  double validRange() const { return valid_range_; }
+  /// Inlier samples of the last fit (of those within fit_range).
+  int inliers() const { return inliers_; }
+  /// Inlier band (m) of the fit at depth @p z.
+  static double band(const RoadSurfaceSettings& s, double z) {
+    return s.inlier_distance + s.noise_growth * z * z;
+  }
+
+ private:
+  void collect(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s);
+  bool plausible(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
+  /// Weighted count of the near samples within the band of (n, d).
+  double score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
+  bool ransac(const RoadSurfaceSettings& s, Eigen::Vector3d& n, double& d);
+  /// IRLS refit of (n, d) on the near samples within @p first_band times the band.
+  bool refine(const RoadSurfaceSettings& s, double first_band, Eigen::Vector3d& n, double& d);
+  void measureValidRange(const RoadSurfaceSettings& s, const Eigen::Vector3d& n, double d);
+
+  struct Sample {
+    Eigen::Vector3f p;
+    float weight;  ///< corridor weight
+  };
+  std::vector<Sample> near_;  ///< samples within fit_range
+  std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
+  std::vector<float> bin_residuals_;
+  uint32_t rng_ = 1;
+  double valid_range_ = 0.0;
+  int inliers_ = 0;
+};
+
+}  // namespace rgbd_lane_detector

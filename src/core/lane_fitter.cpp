@@ -1,0 +1,426 @@
+#include "rgbd_lane_detector/lane_fitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "rgbd_lane_detector/lane_plane.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kMaxHeading = 0.35;     // rad: a lane boundary runs along the road (~20 deg)
+constexpr double kNearestForward = 0.5;  // m: points closer ahead are not used
+constexpr double kEdgeDepthHeight = 0.3; // m: depth of a road edge up to this high is its own
+constexpr float kKindMemory = 0.8f;      // decay per frame of a side's kind vote
+constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence of 1 - 1/e
+constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
+constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
+
+// Robust straight line lateral = a + b forward through road points: least squares, then twice
+// on the points within 0.3 m of the current line.
+bool robustLine(const std::vector<Eigen::Vector2d>& m, double& a, double& b) {
+  bool have = false;
+  for (int it = 0; it < 3; ++it) {
+    Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    for (const auto& q : m) {
+      if (have && std::fabs(q.y() - (a + b * q.x())) > 0.3) continue;
+      const Eigen::Vector2d phi(1.0, q.x());
+      N.noalias() += phi * phi.transpose();
+      r += phi * q.y();
+    }
+    if (N.determinant() < 1e-9) return have;
+    const Eigen::Vector2d s = N.ldlt().solve(r);
+    a = s[0];
+    b = s[1];
+    have = true;
+  }
+  return have;
+}
+
+}  // namespace
+
+LaneFitter::LaneFitter() { reset(); }
+
+void LaneFitter::reset() {
+  previous_plane_.valid = false;
+  tracker_.reset();
+  kind_score_ = {0.f, 0.f};
+  evidence_margin_ = {0.f, 0.f};
+  disagree_ = {0, 0};
+}
+
+void LaneFitter::fit(const LaneFitInput& in, Result& result) {
+  result.plane.valid = false;
+  result.plane.support.clear();
+  if (params_.track_lanes) {
+    fitBoundaries(in, result);
+  } else {
+    for (int i = 0; i < 2; ++i) {
+      MarkerTrace& side = i == 0 ? result.left : result.right;
+      if (in.counts[i] > 0) copyTrace((*in.candidates)[i][0].trace, side);
+      side.kind = BoundaryKind::kPaint;
+    }
+    fitMarkerPlane(in, result);
+    for (MarkerTrace* m : {&result.left, &result.right})
+      m->confidence = m->found ? static_cast<float>(std::min(1.0, 0.5 * m->peak_score)) : 0.0f;
+  }
+  previous_plane_.valid = result.plane.valid;
+  if (result.plane.valid) {
+    previous_plane_.normal = result.plane.normal;
+    previous_plane_.distance = result.plane.distance;
+  }
+}
+
+void LaneFitter::copyTrace(const MarkerTrace& from, MarkerTrace& to) const {
+  // element-wise: the vectors keep their capacity (no allocation in steady state)
+  to.found = from.found;
+  to.kind = from.kind;
+  to.confidence = from.confidence;
+  to.peak_score = from.peak_score;
+  to.seed = from.seed;
+  to.seed_point = from.seed_point;
+  to.angle = from.angle;
+  to.angle_valid = from.angle_valid;
+  to.pixels.assign(from.pixels.begin(), from.pixels.end());
+  to.scores.assign(from.scores.begin(), from.scores.end());
+  to.points.assign(from.points.begin(), from.points.end());
+  to.num_valid_points = from.num_valid_points;
+}
+
+// --- paper mode: the plane from the markers ----------------------------------------------
+
+void LaneFitter::fitMarkerPlane(const LaneFitInput& in, Result& result) {
+  const Params& p = params_;
+  MarkerTrace& L = result.left;
+  MarkerTrace& R = result.right;
+  // plane gate: drop marker points far from the previous plane
+  if (p.plane_gate > 0.0 && previous_plane_.valid) {
+    for (MarkerTrace* m : {&L, &R}) {
+      for (auto& q : m->points) {
+        if (!std::isnan(q.z()) && std::fabs(planeDistance(previous_plane_, q)) > p.plane_gate) {
+          q = Eigen::Vector3f(kNaN, kNaN, kNaN);
+          --m->num_valid_points;
+        }
+      }
+    }
+  }
+  L.found = L.num_valid_points >= p.min_marker_points;
+  R.found = R.num_valid_points >= p.min_marker_points;
+  PlaneEstimate& plane = result.plane;
+  if (!L.found || !R.found) {
+    rejectIncomplete(result);
+    return;
+  }
+  if (p.plane_fit == PlaneFit::kThreePoint) {
+    // v_a1: best left match, v_b: best right match, v_a2: furthest right centroid
+    Eigen::Vector3f a2(kNaN, kNaN, kNaN);
+    for (auto it = R.points.rbegin(); it != R.points.rend(); ++it) {
+      if (!std::isnan(it->z())) {
+        a2 = *it;
+        break;
+      }
+    }
+    planeFromThreePoints(L.seed_point, R.seed_point, a2, plane);
+  } else {
+    fit_points_.clear();
+    fit_points_.insert(fit_points_.end(), L.points.begin(), L.points.end());
+    fit_points_.insert(fit_points_.end(), R.points.begin(), R.points.end());
+    fitPlaneLeastSquares(fit_points_, 0.1, 3, plane);
+  }
+  if (!plane.valid || !planePlausible(plane)) {
+    plane.valid = false;
+    rejectIncomplete(result);
+    return;
+  }
+  smoothPlane(plane);
+  if (p.snap_to_plane) {
+    snapToPlane(in.K, plane, L);
+    snapToPlane(in.K, plane, R);
+  }
+  if (p.lane_width_max > 0.0) {
+    const double width = laneWidth(plane, L, R);
+    if (!(width >= p.lane_width_min && width <= p.lane_width_max)) {
+      plane.valid = false;
+      rejectIncomplete(result);
+    }
+  }
+}
+
+// --- improved mode: each boundary on its own -----------------------------------------------
+
+void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const PlaneFrame& frame,
+                         double road_range, bool left, BoundaryCandidate& c) const {
+  c.road.clear();
+  c.usable = false;
+  c.offset = c.heading = std::numeric_limits<double>::quiet_NaN();
+  if (!c.evidence.boundary || !frame.valid) return;
+  const bool edge = c.evidence.kind == BoundaryKind::kRoadEdge;
+  const MarkerTrace& t = c.trace;
+  for (size_t k = 0; k < t.pixels.size(); ++k) {
+    // Paint lies on the road: its pixel's ray met with the plane, where the plane holds; a
+    // road edge (a kerb's face) is where its depth stands on the road. Beyond the plane's
+    // range, the depth.
+    const Eigen::Vector3f& q = t.points[k];
+    const bool depth = q.allFinite() && std::fabs(planeDistance(plane, q)) <= kEdgeDepthHeight;
+    Eigen::Vector3d P;
+    const Eigen::Vector3d ray((t.pixels[k].x - K.cx) / K.fx, (t.pixels[k].y - K.cy) / K.fy, 1.0);
+    const double den = plane.normal.dot(ray);
+    const bool on_plane = den < -1e-9 && -plane.distance / den <= road_range;
+    if (edge && depth)
+      P = q.cast<double>();
+    else if (on_plane)
+      P = ray * (-plane.distance / den);
+    else if (depth)
+      P = q.cast<double>();
+    else
+      continue;
+    const Eigen::Vector2d fl = frame.toPlane(P);
+    if (fl.x() >= kNearestForward) c.road.push_back(fl);
+  }
+  if (static_cast<int>(c.road.size()) < params_.min_marker_points) return;
+  double a = 0.0, b = 0.0;
+  if (!robustLine(c.road, a, b)) return;
+  c.offset = a;
+  c.heading = std::atan(b);
+  const double side = left ? -a : a;
+  c.usable = side >= params_.boundary_offset_min && side <= params_.boundary_offset_max &&
+             std::fabs(c.heading) <= kMaxHeading;
+}
+
+int LaneFitter::choose(int i, const LaneFitInput& in) const {
+  const std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
+  int nearest = -1, consistent = -1;
+  for (int k = 0; k < in.counts[i]; ++k) {
+    const BoundaryCandidate& c = cands[k];
+    if (!c.usable) continue;
+    if (nearest < 0 || std::fabs(c.offset) < std::fabs(cands[nearest].offset)) nearest = k;
+    if (!tracker_.established(i)) continue;
+    // agrees with the tracked boundary: most of its points within the gate
+    int inliers = 0;
+    for (const auto& q : c.road)
+      inliers += std::fabs(q.y() - tracker_.lateral(i, q.x())) <= params_.track_gate;
+    if (2 * inliers < static_cast<int>(c.road.size())) continue;
+    if (consistent < 0 || std::fabs(c.offset) < std::fabs(cands[consistent].offset))
+      consistent = k;
+  }
+  return consistent >= 0 ? consistent : nearest;
+}
+
+void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
+  const Params& p = params_;
+  PlaneEstimate& plane = result.plane;
+  TrackerParams tp;
+  tp.memory = p.track_memory;
+  tp.max_age = p.track_max_age;
+  tp.gate = p.track_gate;
+  tp.min_points = p.min_marker_points;
+
+  // The plane: the road surface from depth, else (marker plane modes) from the best seeds'
+  // depth; while the depth shows no road, the last plane for as long as a side lives.
+  const bool any_track = tracker_.valid(0) || tracker_.valid(1);
+  double road_range = in.road_range;
+  if (p.plane_fit == PlaneFit::kRoadSurface) {
+    if (in.road != nullptr && in.road->valid && planePlausible(*in.road)) {
+      plane.valid = true;
+      plane.normal = in.road->normal;
+      plane.distance = in.road->distance;
+      plane.rms = in.road->rms;
+      plane.fit_method = in.road->fit_method;
+      plane.range = in.road->range;
+      plane.support.assign(in.road->support.begin(), in.road->support.end());
+    }
+  } else {
+    fit_points_.clear();
+    for (int i = 0; i < 2; ++i)
+      if (in.counts[i] > 0)
+        for (const auto& q : (*in.candidates)[i][0].trace.points)
+          if (q.allFinite()) fit_points_.push_back(q);
+    if (fitPlaneLeastSquares(fit_points_, 0.1, 3, plane) && !planePlausible(plane))
+      plane.valid = false;
+    road_range = p.max_depth;
+  }
+  if (!plane.valid && previous_plane_.valid && any_track) {
+    plane.valid = true;
+    plane.normal = previous_plane_.normal;
+    plane.distance = previous_plane_.distance;
+    plane.rms = 0.0;
+    plane.range = 0.0;
+    plane.fit_method = static_cast<int>(p.plane_fit);
+    road_range = std::max(road_range, 20.0);
+  }
+  MarkerTrace* sides[2] = {&result.left, &result.right};
+  for (int i = 0; i < 2; ++i) {
+    MarkerTrace& m = *sides[i];
+    m.found = false;
+    m.confidence = 0.0f;
+    m.pixels.clear();
+    m.points.clear();
+    m.scores.clear();
+    m.num_valid_points = 0;
+    if (in.counts[i] > 0) {  // the best seed's image measurements, for templates and overlays
+      const MarkerTrace& best = (*in.candidates)[i][0].trace;
+      m.peak_score = best.peak_score;
+      m.seed = best.seed;
+      m.seed_point = best.seed_point;
+      m.angle = best.angle;
+      m.angle_valid = best.angle_valid;
+    }
+  }
+  if (!plane.valid) {
+    tracker_.update(PlaneFrame(), none_, none_, tp);  // ages the lane model
+    return;
+  }
+  smoothPlane(plane);
+  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
+
+  // each side's boundary: the nearest usable candidate (the tracked one while it is seen)
+  int chosen[2] = {-1, -1};
+  for (int i = 0; i < 2; ++i) {
+    evidence_[i].clear();
+    std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
+    for (int k = 0; k < in.counts[i]; ++k) measure(in.K, plane, frame, road_range, i == 0, cands[k]);
+    chosen[i] = choose(i, in);
+    if (chosen[i] < 0) continue;
+    for (const auto& q : cands[chosen[i]].road)
+      evidence_[i].push_back(frame.toCamera(q.x(), q.y()).cast<float>());
+  }
+  tracker_.update(frame, evidence_[0], evidence_[1], tp);
+
+  for (int i = 0; i < 2; ++i) {
+    MarkerTrace& m = *sides[i];
+    if (!tracker_.valid(i)) {
+      kind_score_[i] = 0.f;
+      evidence_margin_[i] = 0.f;
+      continue;
+    }
+    if (tracker_.age(i) == 0 && chosen[i] >= 0) {
+      // the side's kind: a decaying vote of its classified evidence (a new side starts over)
+      const BoundaryCandidate& c = (*in.candidates)[i][chosen[i]];
+      const float vote = c.evidence.kind == BoundaryKind::kPaint ? 1.f : -1.f;
+      const float w = 0.25f + c.evidence.margin;
+      if (tracker_.frames(i) <= 1) {
+        kind_score_[i] = vote * w;
+        evidence_margin_[i] = c.evidence.margin;
+      } else {
+        kind_score_[i] = kKindMemory * kind_score_[i] + vote * w;
+        evidence_margin_[i] = kKindMemory * evidence_margin_[i] + (1.f - kKindMemory) * c.evidence.margin;
+      }
+      m.seed = c.trace.seed;
+      m.seed_point = c.trace.seed_point;
+      m.peak_score = c.trace.peak_score;
+      m.angle = c.trace.angle;
+      m.angle_valid = c.trace.angle_valid;
+    }
+    // reported: the side's model over its evidence's range, within the plane's range
+    tracker_.sample(i, frame, tp.sample_step, samples_);
+    for (const auto& q : samples_) {
+      if (!(q.z() > 0.1f)) continue;
+      if (frame.toPlane(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
+      m.points.push_back(q);
+      m.pixels.emplace_back(static_cast<float>(in.K.fx * q.x() / q.z() + in.K.cx),
+                            static_cast<float>(in.K.fy * q.y() / q.z() + in.K.cy));
+      m.scores.push_back(m.peak_score);
+    }
+    m.num_valid_points = static_cast<int>(m.points.size());
+    m.found = m.num_valid_points >= p.min_marker_points;
+    if (!m.found) continue;
+    m.kind = kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
+    const double support = 1.0 - std::exp(-tracker_.frames(i) / kSupportFrames);
+    const double fresh = std::pow(kAgeDecay, tracker_.age(i));
+    m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
+  }
+
+  // Two sides closer or farther apart than any lane: the less confident one is not reported.
+  if (result.left.found && result.right.found && p.lane_width_max > 0.0) {
+    const double width = tracker_.lateral(1, kWidthProbe) - tracker_.lateral(0, kWidthProbe);
+    if (!(width >= p.lane_width_min && width <= p.lane_width_max)) {
+      MarkerTrace& weaker = result.left.confidence < result.right.confidence ? result.left
+                                                                             : result.right;
+      weaker.found = false;
+      weaker.confidence = 0.0f;
+    }
+  }
+  if (!result.left.found || !result.right.found) rejectIncomplete(result);
+}
+
+// --- shared checks -------------------------------------------------------------------------
+
+bool LaneFitter::planePlausible(const PlaneEstimate& plane) const {
+  const Params& p = params_;
+  const Eigen::Vector3d up(p.up_x, p.up_y, p.up_z);
+  // the normal points toward the camera, i.e. up; allow |tilt| up to plane_max_tilt_deg
+  const double cos_tilt = plane.normal.dot(up);
+  if (p.plane_max_tilt_deg < 90.0 && cos_tilt < std::cos(p.plane_max_tilt_deg * M_PI / 180.0))
+    return false;
+  return plane.distance >= p.plane_distance_min && plane.distance <= p.plane_distance_max;
+}
+
+void LaneFitter::smoothPlane(PlaneEstimate& plane) const {
+  if (!(params_.plane_smoothing > 0.0) || !previous_plane_.valid) return;
+  const double w = params_.plane_smoothing;
+  const Eigen::Vector3d n = (1.0 - w) * plane.normal + w * previous_plane_.normal;
+  if (n.norm() > 1e-9) {
+    plane.normal = n.normalized();
+    plane.distance = (1.0 - w) * plane.distance + w * previous_plane_.distance;
+  }
+}
+
+void LaneFitter::snapToPlane(const Intrinsics& K, const PlaneEstimate& plane,
+                             MarkerTrace& m) const {
+  // Markers are paint on the road: their 3D points are where their pixel rays meet the plane.
+  m.num_valid_points = 0;
+  for (size_t i = 0; i < m.pixels.size(); ++i) {
+    const Eigen::Vector3d ray((m.pixels[i].x - K.cx) / K.fx, (m.pixels[i].y - K.cy) / K.fy, 1.0);
+    const double denom = plane.normal.dot(ray);
+    const double t = denom < -1e-9 ? -plane.distance / denom : -1.0;
+    if (t > 0.0 && t * ray.z() <= params_.max_depth) {
+      m.points[i] = (ray * t).cast<float>();
+      ++m.num_valid_points;
+    } else {
+      m.points[i] = Eigen::Vector3f(kNaN, kNaN, kNaN);
+    }
+  }
+  m.found = m.num_valid_points >= params_.min_marker_points;
+}
+
+double LaneFitter::laneWidth(const PlaneEstimate& plane, const MarkerTrace& L,
+                             const MarkerTrace& R) const {
+  // lateral axis of the road: the optical axis projected into the plane, crossed with the normal
+  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
+  if (!frame.valid) return std::numeric_limits<double>::quiet_NaN();
+  // for each left point, the right point nearest in the forward direction
+  width_samples_.clear();
+  for (const auto& l : L.points) {
+    if (!l.allFinite()) continue;
+    const Eigen::Vector2d ql = frame.toPlane(l.cast<double>());
+    double best = std::numeric_limits<double>::infinity(), lat = 0.0;
+    for (const auto& r : R.points) {
+      if (!r.allFinite()) continue;
+      const Eigen::Vector2d qr = frame.toPlane(r.cast<double>());
+      const double df = std::fabs(qr.x() - ql.x());
+      if (df < best) {
+        best = df;
+        lat = qr.y() - ql.y();
+      }
+    }
+    if (best < 2.0) width_samples_.push_back(lat);
+  }
+  if (width_samples_.size() < 3) return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(width_samples_.begin(), width_samples_.begin() + width_samples_.size() / 2,
+                   width_samples_.end());
+  return width_samples_[width_samples_.size() / 2];
+}
+
+void LaneFitter::rejectIncomplete(Result& result) const {
+  if (!params_.report_only_complete) return;
+  result.left.found = false;
+  result.right.found = false;
+  result.left.confidence = result.right.confidence = 0.0f;
+}
+
+}  // namespace rgbd_lane_detector

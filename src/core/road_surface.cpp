@@ -1,0 +1,260 @@
+#include "rgbd_lane_detector/road_surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr float kCorridorHalfWidth = 2.5f;  // m either side of the camera: the road ahead
+constexpr float kCorridorWeight = 3.0f;
+constexpr int kMinSamples = 30;             // fewer near samples: no fit
+constexpr int kRansacIterations = 128;
+constexpr double kEarlyExit = 0.8;          // RANSAC stops at this share of the total weight
+constexpr int kRefineIterations = 4;
+constexpr double kPreviousBand = 4.0;       // first refit band around the previous plane (x band)
+constexpr double kRansacBand = 2.0;         // first refit band around a RANSAC plane (x band)
+constexpr double kMinInlierShare = 0.15;    // of the near samples' weight
+constexpr size_t kMaxSupport = 200;         // support points kept for the message
+// Valid range: 5 m bins beyond fit_range, the mode of the corridor's residuals per bin.
+constexpr double kBinLength = 5.0;
+constexpr int kMinBinSamples = 12;
+constexpr float kHistogramRange = 1.0f;     // residuals within +-1 m enter the histogram
+constexpr int kHistogramBins = 50;          // 4 cm bins
+
+double tukeyWeight(double r, double c) {
+  const double u = r / c;
+  if (std::fabs(u) >= 1.0) return 0.0;
+  const double t = 1.0 - u * u;
+  return t * t;
+}
+
+// Orient n . p + d = 0 so that the camera (origin) is on the positive side.
+bool orient(Eigen::Vector3d& n, double& d) {
+  if (!n.allFinite() || !std::isfinite(d) || std::fabs(d) < 1e-6) return false;
+  if (d < 0.0) {
+    n = -n;
+    d = -d;
+  }
+  return true;
+}
+
+}  // namespace
+
+void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
+                          const RoadSurfaceSettings& s) {
+  near_.clear();
+  far_.clear();
+  const int height = std::max(0, rows.end - rows.start);
+  const double area = static_cast<double>(height) * points.cols;
+  const int stride =
+      std::max(1, static_cast<int>(std::lround(std::sqrt(area / std::max(s.target_samples, 1)))));
+  const float fit_range = static_cast<float>(s.fit_range);
+  const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
+  for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
+    const float* row = points.ptr<float>(y);
+    for (int x = stride / 2; x < points.cols; x += stride) {
+      const float* q = row + 3 * x;
+      if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
+        continue;
+      Sample smp{Eigen::Vector3f(q[0], q[1], q[2]),
+                 std::fabs(q[0]) < kCorridorHalfWidth ? kCorridorWeight : 1.0f};
+      (q[2] <= fit_range ? near_ : far_).push_back(smp);
+    }
+  }
+  // Depth only farther away (a LiDAR or stereo gap near the car): fit over twice the range.
+  if (static_cast<int>(near_.size()) < kMinSamples) {
+    const float extended = 2.0f * fit_range;
+    auto mid = std::partition(far_.begin(), far_.end(),
+                              [extended](const Sample& a) { return a.p.z() > extended; });
+    near_.insert(near_.end(), mid, far_.end());
+    far_.erase(mid, far_.end());
+  }
+}
+
+bool RoadSurface::plausible(const Eigen::Vector3d& n, double d,
+                            const RoadSurfaceSettings& s) const {
+  if (!(d >= s.height_min && d <= s.height_max)) return false;
+  return n.dot(s.up) >= std::cos(s.max_tilt_deg * M_PI / 180.0);
+}
+
+double RoadSurface::score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const {
+  const Eigen::Vector3f nf = n.cast<float>();
+  const float df = static_cast<float>(d);
+  double total = 0.0;
+  for (const Sample& smp : near_) {
+    const float z = smp.p.z();
+    const float b = static_cast<float>(s.inlier_distance + s.noise_growth * z * z);
+    if (std::fabs(nf.dot(smp.p) + df) <= b) total += smp.weight;
+  }
+  return total;
+}
+
+bool RoadSurface::ransac(const RoadSurfaceSettings& s, Eigen::Vector3d& n, double& d) {
+  const uint32_t count = static_cast<uint32_t>(near_.size());
+  if (count < 3) return false;
+  double total = 0.0;
+  for (const Sample& smp : near_) total += smp.weight;
+  // xorshift32 from a fixed seed: the same frame gives the same plane
+  rng_ = 2463534242u;
+  auto next = [this, count]() {
+    rng_ ^= rng_ << 13;
+    rng_ ^= rng_ >> 17;
+    rng_ ^= rng_ << 5;
+    return rng_ % count;
+  };
+  double best = 0.0;
+  for (int it = 0; it < kRansacIterations; ++it) {
+    const uint32_t i = next(), j = next(), k = next();
+    if (i == j || j == k || i == k) continue;
+    const Eigen::Vector3d a = near_[i].p.cast<double>();
+    Eigen::Vector3d cand = (near_[j].p.cast<double>() - a).cross(near_[k].p.cast<double>() - a);
+    const double len = cand.norm();
+    if (!(len > 1e-9)) continue;
+    cand /= len;
+    double cd = -cand.dot(a);
+    if (!orient(cand, cd) || !plausible(cand, cd, s)) continue;
+    const double sc = score(cand, cd, s);
+    if (sc > best) {
+      best = sc;
+      n = cand;
+      d = cd;
+      if (best >= kEarlyExit * total) break;
+    }
+  }
+  return best > 0.0;
+}
+
+bool RoadSurface::refine(const RoadSurfaceSettings& s, double first_band, Eigen::Vector3d& n,
+                         double& d) {
+  double factor = first_band;
+  for (int it = 0; it < kRefineIterations; ++it) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    double wsum = 0.0;
+    for (const Sample& smp : near_) {
+      const Eigen::Vector3d p = smp.p.cast<double>();
+      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * band(s, p.z()));
+      mean += w * p;
+      wsum += w;
+    }
+    if (!(wsum > 0.0)) return false;
+    mean /= wsum;
+    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+    for (const Sample& smp : near_) {
+      const Eigen::Vector3d p = smp.p.cast<double>();
+      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * band(s, p.z()));
+      if (w <= 0.0) continue;
+      const Eigen::Vector3d q = p - mean;
+      C.noalias() += w * q * q.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
+    const Eigen::Vector3d ev = es.eigenvalues();
+    if (!(ev[1] > 1e-9 * std::max(ev[2], 1e-12))) return false;  // degenerate (one line)
+    Eigen::Vector3d cand = es.eigenvectors().col(0);
+    double cd = -cand.dot(mean);
+    if (!orient(cand, cd)) return false;
+    n = cand;
+    d = cd;
+    factor = std::max(1.0, 0.5 * factor);
+  }
+  return plausible(n, d, s);
+}
+
+void RoadSurface::measureValidRange(const RoadSurfaceSettings& s, const Eigen::Vector3d& n,
+                                    double d) {
+  // The road surface beyond fit_range: per 5 m bin, the most frequent residual of the corridor's
+  // samples (a car's rear spreads over its height, the road concentrates at its own). The plane
+  // holds up to the first bin whose road leaves the band.
+  double near_end = 0.0;
+  for (const Sample& smp : near_) near_end = std::max(near_end, static_cast<double>(smp.p.z()));
+  valid_range_ = std::min(near_end, s.fit_range);
+  const Eigen::Vector3f nf = n.cast<float>();
+  const float df = static_cast<float>(d);
+  int hist[kHistogramBins];
+  for (double z0 = s.fit_range; z0 < s.max_range; z0 += kBinLength) {
+    const double z1 = z0 + kBinLength;
+    std::fill(hist, hist + kHistogramBins, 0);
+    int count = 0;
+    for (const Sample& smp : far_) {
+      if (smp.weight < kCorridorWeight || smp.p.z() <= z0 || smp.p.z() > z1) continue;
+      const float r = nf.dot(smp.p) + df;
+      if (std::fabs(r) >= kHistogramRange) continue;
+      const int b = static_cast<int>((r + kHistogramRange) / (2.0f * kHistogramRange) * kHistogramBins);
+      ++hist[std::min(std::max(b, 0), kHistogramBins - 1)];
+      ++count;
+    }
+    if (count < kMinBinSamples) continue;  // nothing seen there (occluded, no depth): unknown
+    int peak = 0, peak_count = -1;
+    for (int b = 0; b < kHistogramBins; ++b) {
+      const int c = hist[b] + (b > 0 ? hist[b - 1] : 0) + (b + 1 < kHistogramBins ? hist[b + 1] : 0);
+      if (c > peak_count) {
+        peak_count = c;
+        peak = b;
+      }
+    }
+    const double mode = (peak + 0.5) * 2.0 * kHistogramRange / kHistogramBins - kHistogramRange;
+    const double zc = 0.5 * (z0 + z1);
+    if (std::fabs(mode) > band(s, zc) + 2.0 * kHistogramRange / kHistogramBins) break;
+    valid_range_ = z1;
+  }
+}
+
+bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
+                      const RoadSurfaceSettings& s, const PlaneEstimate& previous,
+                      PlaneEstimate& plane) {
+  plane.valid = false;
+  plane.support.clear();
+  plane.rms = 0.0;
+  valid_range_ = 0.0;
+  inliers_ = 0;
+  if (points.empty() || points.type() != CV_32FC3) return false;
+  collect(points, rows, s);
+  if (static_cast<int>(near_.size()) < kMinSamples) return false;
+
+  Eigen::Vector3d n;
+  double d = 0.0;
+  bool ok = false;
+  if (previous.valid && plausible(previous.normal, previous.distance, s)) {
+    n = previous.normal;
+    d = previous.distance;
+    ok = refine(s, kPreviousBand, n, d);
+  }
+  double total = 0.0;
+  for (const Sample& smp : near_) total += smp.weight;
+  if (ok && score(n, d, s) < kMinInlierShare * total) ok = false;
+  if (!ok) ok = ransac(s, n, d) && refine(s, kRansacBand, n, d);
+  if (!ok || score(n, d, s) < kMinInlierShare * total) return false;
+
+  // support: a spread subsample of the inliers; rms of all inliers
+  double sq = 0.0;
+  int count = 0;
+  for (const Sample& smp : near_) {
+    const double r = n.dot(smp.p.cast<double>()) + d;
+    if (std::fabs(r) <= band(s, smp.p.z())) {
+      sq += r * r;
+      ++count;
+    }
+  }
+  const size_t step = std::max<size_t>(1, static_cast<size_t>(count) / kMaxSupport + 1);
+  int k = 0;
+  for (const Sample& smp : near_) {
+    const double r = n.dot(smp.p.cast<double>()) + d;
+    if (std::fabs(r) > band(s, smp.p.z())) continue;
+    if (k++ % step == 0) plane.support.push_back(smp.p);
+  }
+  inliers_ = count;
+  if (count < kMinSamples) return false;
+  plane.valid = true;
+  plane.normal = n;
+  plane.distance = d;
+  plane.rms = std::sqrt(sq / count);
+  plane.fit_method = 2;
+  measureValidRange(s, n, d);
+  plane.range = valid_range_;
+  return true;
+}
+
+}  // namespace rgbd_lane_detector
