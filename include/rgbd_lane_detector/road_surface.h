@@ -8,7 +8,9 @@
  * RoadSurfaceSettings::fit_range ahead of the camera, where one plane holds for any road a
  * vehicle drives on, and the range over which it holds is measured beyond that: the distance at
  * which the road's depth first leaves the plane by more than the inlier band (validRange()).
- * Marker pixels are placed on the plane only within that range.
+ * Marker pixels are placed on the plane only within that range. The range check looks at the
+ * most frequent height of the depth ahead of the camera in 5 m steps: the plane holds while
+ * that stays within 8 cm of it (and can be told: a noisy depth sensor ends it, too).
  */
 #pragma once
 
@@ -30,7 +32,8 @@ struct RoadSurfaceSettings {
   double height_max = 5.0;      ///< upper bound (m)
   double fit_range = 20.0;      ///< points up to this distance ahead fit the plane (m)
   double inlier_distance = 0.04;  ///< residual bound of an inlier at the camera (m)
-  double noise_growth = 0.0015;   ///< the bound grows by this times z^2 (depth noise, 1/m)
+  double noise_growth = 0.0015;   ///< the bound grows by at most this times z^2 (depth noise, 1/m);
+                                  ///< the fit measures the depth's own growth and uses that
   double max_range = 80.0;      ///< farthest depth looked at for the valid range (m)
   int target_samples = 4000;    ///< depth samples drawn from the searched rows (grid)
 };
@@ -65,10 +68,12 @@ class RoadSurface {
   double validRange() const { return valid_range_; }
   /// Inlier samples of the last fit (of those within fit_range).
   int inliers() const { return inliers_; }
-  /// Inlier band (m) of the fit at depth @p z.
-  static double band(const RoadSurfaceSettings& s, double z) {
-    return s.inlier_distance + s.noise_growth * z * z;
+  /// Inlier band (m) of the last fit at depth @p z.
+  double bandAt(const RoadSurfaceSettings& s, double z) const {
+    return s.inlier_distance + growth_ * z * z;
   }
+  /// Growth of the inlier band with z^2 measured on the last frame's depth (1/m).
+  double noiseGrowth() const { return growth_; }
 
  private:
   void collect(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s);
@@ -79,6 +84,8 @@ class RoadSurface {
   /// IRLS refit of (n, d) on the near samples within @p first_band times the band.
   bool refine(const RoadSurfaceSettings& s, double first_band, Eigen::Vector3d& n, double& d);
   void measureValidRange(const RoadSurfaceSettings& s, const Eigen::Vector3d& n, double d);
+  /// The band's growth with z^2 from the residuals of (n, d): three robust sigmas per z^2.
+  void estimateNoise(const RoadSurfaceSettings& s, const Eigen::Vector3d& n, double d);
 
   struct Sample {
     Eigen::Vector3f p;
@@ -86,7 +93,8 @@ class RoadSurface {
   };
   std::vector<Sample> near_;  ///< samples within fit_range
   std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
-  std::vector<float> bin_residuals_;
+  std::vector<float> ratios_;
+  double growth_ = 0.0;
   uint32_t rng_ = 1;
   double valid_range_ = 0.0;
   int inliers_ = 0;

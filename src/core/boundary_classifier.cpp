@@ -24,6 +24,7 @@ constexpr int kMinHeights = 3;
 constexpr float kMinContrast = 10.0f;        // grey levels: below this a band is sensor noise
 constexpr double kBandReach = 0.3;           // m: bands this close to the trace belong to it
 constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint are not applied
+constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 
 float median(std::vector<float>& v) {
   if (v.empty()) return kNaN;
@@ -210,14 +211,16 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     ridge_.push_back(peak - top);
     step_.push_back(bg[1] - bg[0]);
     // colour change across the line, unless it is the blue cast of a shadow: the darker side
-    // bluer (sky-lit) than the sunlit one
+    // much darker and bluer (sky-lit) than the sunlit one
     {
       const int dark = bg[0] < bg[1] ? 0 : 1;
       const float dr = chroma[1][0] - chroma[0][0], dg = chroma[1][1] - chroma[0][1];
       const float blue_dark = 1.f - chroma[dark][0] - chroma[dark][1];
       const float blue_light = 1.f - chroma[1 - dark][0] - chroma[1 - dark][1];
       const float dist = std::hypot(dr, dg);
-      chroma_.push_back(blue_dark - blue_light > 0.5f * dist ? 0.0f : dist);
+      const bool shadow = bg[1 - dark] >= kShadowRatio * std::max(bg[dark], 1.0f) &&
+                          blue_dark - blue_light > 0.5f * dist;
+      chroma_.push_back(shadow ? 0.0f : dist);
     }
     if (peak - top >= contrast) ++ev.ridge_rows;
     // bright bands near the trace, by width where the pixels resolve them: the painted one
@@ -345,8 +348,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   }
   // 4. a change of surface: the colour changes across the line, not only the brightness (which
   // a shadow's edge also changes)
-  if (std::isfinite(ev.chroma_step) && ev.chroma_step >= p.edge_chroma &&
-      std::fabs(ev.step_contrast) >= kMinContrast) {
+  if (std::isfinite(ev.chroma_step) && ev.chroma_step >= p.edge_chroma) {
     ev.boundary = true;
     ev.kind = BoundaryKind::kRoadEdge;
     ev.reason = "surface change";

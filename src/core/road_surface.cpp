@@ -18,12 +18,16 @@ constexpr int kRefineIterations = 4;
 constexpr double kPreviousBand = 4.0;       // first refit band around the previous plane (x band)
 constexpr double kRansacBand = 2.0;         // first refit band around a RANSAC plane (x band)
 constexpr double kMinInlierShare = 0.15;    // of the near samples' weight
+constexpr double kNoiseMinDepth = 5.0;      // m: the noise growth is measured beyond this
 constexpr size_t kMaxSupport = 200;         // support points kept for the message
 // Valid range: 5 m bins beyond fit_range, the mode of the corridor's residuals per bin.
 constexpr double kBinLength = 5.0;
 constexpr int kMinBinSamples = 12;
 constexpr float kHistogramRange = 1.0f;     // residuals within +-1 m enter the histogram
 constexpr int kHistogramBins = 50;          // 4 cm bins
+constexpr int kModeHalfWidth = 2;           // the mode counts the bins within +-8 cm
+constexpr double kSharpMode = 0.3;          // share of a bin's samples near its mode
+constexpr double kLeavesPlane = 0.08;       // m: the road left the plane
 
 double tukeyWeight(double r, double c) {
   const double u = r / c;
@@ -54,15 +58,28 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
       std::max(1, static_cast<int>(std::lround(std::sqrt(area / std::max(s.target_samples, 1)))));
   const float fit_range = static_cast<float>(s.fit_range);
   const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
-  for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
+  const int centre = points.cols / 2;
+  for (int y = rows.start; y < rows.end; ++y) {
     const float* row = points.ptr<float>(y);
-    for (int x = stride / 2; x < points.cols; x += stride) {
+    // Every stride-th row on a grid (the fit); beyond fit_range the corridor's every pixel (the
+    // valid range check: far away the corridor is a few pixels wide).
+    const bool grid_row = (y - rows.start) % stride == stride / 2;
+    const float zc = row[3 * centre + 2];
+    const bool far_row = !(zc <= 0.9f * fit_range);  // far, or no depth at the centre
+    if (!grid_row && !far_row) continue;
+    for (int x = 0; x < points.cols; ++x) {
       const float* q = row + 3 * x;
+      const bool grid = grid_row && x % stride == stride / 2;
+      if (!grid && !far_row) continue;
       if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
         continue;
-      Sample smp{Eigen::Vector3f(q[0], q[1], q[2]),
-                 std::fabs(q[0]) < kCorridorHalfWidth ? kCorridorWeight : 1.0f};
-      (q[2] <= fit_range ? near_ : far_).push_back(smp);
+      const bool corridor = std::fabs(q[0]) < kCorridorHalfWidth;
+      const Sample smp{Eigen::Vector3f(q[0], q[1], q[2]), corridor ? kCorridorWeight : 1.0f};
+      if (q[2] <= fit_range) {
+        if (grid) near_.push_back(smp);
+      } else if (corridor || grid) {
+        far_.push_back(smp);
+      }
     }
   }
   // Depth only farther away (a LiDAR or stereo gap near the car): fit over twice the range.
@@ -87,10 +104,26 @@ double RoadSurface::score(const Eigen::Vector3d& n, double d, const RoadSurfaceS
   double total = 0.0;
   for (const Sample& smp : near_) {
     const float z = smp.p.z();
-    const float b = static_cast<float>(s.inlier_distance + s.noise_growth * z * z);
+    const float b = static_cast<float>(s.inlier_distance + growth_ * z * z);
     if (std::fabs(nf.dot(smp.p) + df) <= b) total += smp.weight;
   }
   return total;
+}
+
+void RoadSurface::estimateNoise(const RoadSurfaceSettings& s, const Eigen::Vector3d& n, double d) {
+  // depth noise that grows as z^2 (stereo, structured light): three robust sigmas of the
+  // residuals per z^2 beyond 5 m, at most the settings' growth
+  ratios_.clear();
+  for (const Sample& smp : near_) {
+    const double z = smp.p.z();
+    if (z < kNoiseMinDepth) continue;
+    const double r = std::fabs(n.dot(smp.p.cast<double>()) + d);
+    if (r <= s.inlier_distance + s.noise_growth * z * z) ratios_.push_back(static_cast<float>(r / (z * z)));
+  }
+  if (ratios_.size() < static_cast<size_t>(kMinSamples)) return;  // keep the settings' growth
+  auto mid = ratios_.begin() + ratios_.size() / 2;
+  std::nth_element(ratios_.begin(), mid, ratios_.end());
+  growth_ = std::min(s.noise_growth, 3.0 * 1.4826 * static_cast<double>(*mid));
 }
 
 bool RoadSurface::ransac(const RoadSurfaceSettings& s, Eigen::Vector3d& n, double& d) {
@@ -136,7 +169,7 @@ bool RoadSurface::refine(const RoadSurfaceSettings& s, double first_band, Eigen:
     double wsum = 0.0;
     for (const Sample& smp : near_) {
       const Eigen::Vector3d p = smp.p.cast<double>();
-      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * band(s, p.z()));
+      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * bandAt(s, p.z()));
       mean += w * p;
       wsum += w;
     }
@@ -145,7 +178,7 @@ bool RoadSurface::refine(const RoadSurfaceSettings& s, double first_band, Eigen:
     Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
     for (const Sample& smp : near_) {
       const Eigen::Vector3d p = smp.p.cast<double>();
-      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * band(s, p.z()));
+      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * bandAt(s, p.z()));
       if (w <= 0.0) continue;
       const Eigen::Vector3d q = p - mean;
       C.noalias() += w * q * q.transpose();
@@ -167,13 +200,15 @@ void RoadSurface::measureValidRange(const RoadSurfaceSettings& s, const Eigen::V
                                     double d) {
   // The road surface beyond fit_range: per 5 m bin, the most frequent residual of the corridor's
   // samples (a car's rear spreads over its height, the road concentrates at its own). The plane
-  // holds up to the first bin whose road leaves the band.
+  // holds up to the first bin whose road leaves it, or whose road cannot be told (no sharp mode:
+  // depth too noisy there).
   double near_end = 0.0;
   for (const Sample& smp : near_) near_end = std::max(near_end, static_cast<double>(smp.p.z()));
-  valid_range_ = std::min(near_end, s.fit_range);
+  valid_range_ = near_end >= 0.8 * s.fit_range ? s.fit_range : near_end;
   const Eigen::Vector3f nf = n.cast<float>();
   const float df = static_cast<float>(d);
   int hist[kHistogramBins];
+  const float bin = 2.0f * kHistogramRange / kHistogramBins;
   for (double z0 = s.fit_range; z0 < s.max_range; z0 += kBinLength) {
     const double z1 = z0 + kBinLength;
     std::fill(hist, hist + kHistogramBins, 0);
@@ -182,22 +217,24 @@ void RoadSurface::measureValidRange(const RoadSurfaceSettings& s, const Eigen::V
       if (smp.weight < kCorridorWeight || smp.p.z() <= z0 || smp.p.z() > z1) continue;
       const float r = nf.dot(smp.p) + df;
       if (std::fabs(r) >= kHistogramRange) continue;
-      const int b = static_cast<int>((r + kHistogramRange) / (2.0f * kHistogramRange) * kHistogramBins);
+      const int b = static_cast<int>((r + kHistogramRange) / bin);
       ++hist[std::min(std::max(b, 0), kHistogramBins - 1)];
       ++count;
     }
     if (count < kMinBinSamples) continue;  // nothing seen there (occluded, no depth): unknown
     int peak = 0, peak_count = -1;
     for (int b = 0; b < kHistogramBins; ++b) {
-      const int c = hist[b] + (b > 0 ? hist[b - 1] : 0) + (b + 1 < kHistogramBins ? hist[b + 1] : 0);
+      int c = 0;
+      for (int k = std::max(0, b - kModeHalfWidth); k <= std::min(kHistogramBins - 1, b + kModeHalfWidth); ++k)
+        c += hist[k];
       if (c > peak_count) {
         peak_count = c;
         peak = b;
       }
     }
-    const double mode = (peak + 0.5) * 2.0 * kHistogramRange / kHistogramBins - kHistogramRange;
-    const double zc = 0.5 * (z0 + z1);
-    if (std::fabs(mode) > band(s, zc) + 2.0 * kHistogramRange / kHistogramBins) break;
+    const double mode = (peak + 0.5) * bin - kHistogramRange;
+    if (peak_count < kSharpMode * count) break;            // no clear road surface
+    if (std::fabs(mode) > kLeavesPlane + bin) break;       // the road left the plane
     valid_range_ = z1;
   }
 }
@@ -217,6 +254,7 @@ bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
   Eigen::Vector3d n;
   double d = 0.0;
   bool ok = false;
+  growth_ = s.noise_growth;  // the sensor's worst case until the data tell
   if (previous.valid && plausible(previous.normal, previous.distance, s)) {
     n = previous.normal;
     d = previous.distance;
@@ -227,13 +265,21 @@ bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
   if (ok && score(n, d, s) < kMinInlierShare * total) ok = false;
   if (!ok) ok = ransac(s, n, d) && refine(s, kRansacBand, n, d);
   if (!ok || score(n, d, s) < kMinInlierShare * total) return false;
+  // the band from the depth's own noise, then a last refit with it
+  estimateNoise(s, n, d);
+  const Eigen::Vector3d n0 = n;
+  const double d0 = d;
+  if (!refine(s, 1.0, n, d) || score(n, d, s) < kMinInlierShare * total) {
+    n = n0;
+    d = d0;
+  }
 
   // support: a spread subsample of the inliers; rms of all inliers
   double sq = 0.0;
   int count = 0;
   for (const Sample& smp : near_) {
     const double r = n.dot(smp.p.cast<double>()) + d;
-    if (std::fabs(r) <= band(s, smp.p.z())) {
+    if (std::fabs(r) <= bandAt(s, smp.p.z())) {
       sq += r * r;
       ++count;
     }
@@ -242,7 +288,7 @@ bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
   int k = 0;
   for (const Sample& smp : near_) {
     const double r = n.dot(smp.p.cast<double>()) + d;
-    if (std::fabs(r) > band(s, smp.p.z())) continue;
+    if (std::fabs(r) > bandAt(s, smp.p.z())) continue;
     if (k++ % step == 0) plane.support.push_back(smp.p);
   }
   inliers_ = count;

@@ -1,0 +1,200 @@
+// Road surface from depth: a robust plane over the searched rows, with cars, raised sidewalks,
+// missing depth near the car, noise and a crest.
+#include <cmath>
+#include <functional>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/road_surface.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr int kW = 320, kH = 190;
+const Intrinsics kK{133.0, 133.0, 160.0, 95.0};
+
+// A box standing on the road (a car, a sidewalk): footprint [x0, x1] x [z0, z1], height h.
+struct Box {
+  double x0, x1, z0, z1, h;
+};
+
+// Camera 1.5 m above a road, pitched down by `pitch` rad; crest(z) lowers the road ahead (a
+// smooth vertical profile), boxes stand on it.
+struct Scene {
+  double height = 1.5;
+  double pitch = 0.05;
+  double noise = 0.0;  // sigma of the depth (m)
+  std::function<double(double)> crest = [](double) { return 0.0; };
+  std::vector<Box> boxes;
+  std::function<bool(int, int)> hole = [](int, int) { return false; };
+
+  // the road plane in the optical frame (normal toward the camera)
+  Eigen::Vector3d normal() const {
+    return Eigen::Vector3d(0, -std::cos(pitch), -std::sin(pitch));
+  }
+
+  // distance t along the world ray w (x right, y down, z forward) to the first surface
+  double hit(const Eigen::Vector3d& w) const {
+    double best = INFINITY;
+    if (w.y() > 1e-6) {
+      double t = height / w.y();
+      for (int it = 0; it < 50; ++it) t = (height + crest(t * w.z())) / w.y();  // smooth profile
+      best = t;
+    }
+    for (const Box& b : boxes) {
+      const double top = height - b.h;
+      auto inside = [&](double t, int skip) {
+        const Eigen::Vector3d p = t * w;
+        return t > 0 && (skip == 0 || (p.x() >= b.x0 && p.x() <= b.x1)) &&
+               (skip == 1 || (p.z() >= b.z0 && p.z() <= b.z1)) && p.y() >= top - 1e-9 &&
+               p.y() <= height + 1e-9;
+      };
+      if (w.y() > 1e-6 && inside(top / w.y(), 2)) best = std::min(best, top / w.y());
+      for (double x : {b.x0, b.x1})
+        if (std::fabs(w.x()) > 1e-9 && inside(x / w.x(), 0)) best = std::min(best, x / w.x());
+      for (double z : {b.z0, b.z1})
+        if (std::fabs(w.z()) > 1e-9 && inside(z / w.z(), 1)) best = std::min(best, z / w.z());
+    }
+    return best;
+  }
+
+  cv::Mat render() const {
+    cv::Mat pts(kH, kW, CV_32FC3, cv::Scalar::all(std::nanf("")));
+    cv::RNG rng(7);
+    const double c = std::cos(pitch), s = std::sin(pitch);
+    for (int v = 0; v < kH; ++v) {
+      for (int u = 0; u < kW; ++u) {
+        if (hole(u, v)) continue;
+        const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
+        const Eigen::Vector3d w(ray.x(), c * ray.y() + s * ray.z(), -s * ray.y() + c * ray.z());
+        const double t = hit(w);
+        if (!(t * ray.z() <= 80.0)) continue;
+        const double z = t * ray.z() + (noise > 0 ? rng.gaussian(noise) : 0.0);
+        pts.at<cv::Vec3f>(v, u) = cv::Vec3f(static_cast<float>(ray.x() * z),
+                                             static_cast<float>(ray.y() * z), static_cast<float>(z));
+      }
+    }
+    return pts;
+  }
+};
+
+double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::fabs(a.normalized().dot(b.normalized())))) * 180.0 / M_PI;
+}
+
+RoadSurfaceSettings settings() {
+  RoadSurfaceSettings s;
+  s.up = Eigen::Vector3d(0, -1, 0);
+  return s;
+}
+
+const cv::Range kRows(static_cast<int>(0.41 * kH), kH);
+
+TEST(RoadSurface, FlatRoadExactly) {
+  Scene scene;
+  const cv::Mat pts = scene.render();
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(pts, kRows, settings(), PlaneEstimate(), plane));
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.01);
+  EXPECT_GT(plane.normal.dot(scene.normal()), 0.0);  // toward the camera
+  EXPECT_NEAR(plane.distance, scene.height, 1e-3);
+  EXPECT_FALSE(plane.support.empty());
+  EXPECT_GE(road.validRange(), 40.0);  // a level road holds as far as the depth reaches
+  EXPECT_LT(road.noiseGrowth(), 1e-4);  // exact depth: the band stays at its floor
+}
+
+TEST(RoadSurface, NoiseCarsAndRaisedSidewalks) {
+  Scene scene;
+  scene.noise = 0.01;
+  // a car ahead (1.5 m tall, 2 m wide, 12-16 m) and 0.12 m sidewalks beyond 3 m each side:
+  // both outliers
+  scene.boxes = {{-0.5, 1.5, 12.0, 16.0, 1.5}, {3.0, 100.0, 0.0, 200.0, 0.12},
+                 {-100.0, -3.0, 0.0, 200.0, 0.12}};
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(scene.render(), kRows, settings(), PlaneEstimate(), plane));
+  // (a least-squares plane of all these points is off by degrees and decimetres)
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.5);
+  EXPECT_NEAR(plane.distance, scene.height, 0.02);
+}
+
+TEST(RoadSurface, NoDepthNearTheCar) {
+  // LiDAR and stereo often have nothing in the bottom rows: the road further ahead still gives
+  // the plane
+  Scene scene;
+  scene.hole = [](int, int v) { return v > kH * 3 / 4; };
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(scene.render(), kRows, settings(), PlaneEstimate(), plane));
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.05);
+  EXPECT_NEAR(plane.distance, scene.height, 0.005);
+}
+
+TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
+  Scene scene;
+  scene.noise = 0.02;
+  const cv::Mat pts = scene.render();
+  RoadSurface a, b;
+  PlaneEstimate first, again, seeded;
+  ASSERT_TRUE(a.fit(pts, kRows, settings(), PlaneEstimate(), first));
+  ASSERT_TRUE(b.fit(pts, kRows, settings(), PlaneEstimate(), again));
+  EXPECT_EQ(first.normal, again.normal);  // the same input gives the same plane, bit for bit
+  EXPECT_EQ(first.distance, again.distance);
+  // a previous plane 2 deg and 10 cm off converges onto the road
+  PlaneEstimate previous;
+  previous.valid = true;
+  previous.normal = Eigen::AngleAxisd(2.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()) * scene.normal();
+  previous.distance = scene.height + 0.1;
+  ASSERT_TRUE(a.fit(pts, kRows, settings(), previous, seeded));
+  EXPECT_LT(angleDeg(seeded.normal, scene.normal()), 0.2);
+  EXPECT_NEAR(seeded.distance, scene.height, 0.02);
+}
+
+TEST(RoadSurface, CrestEndsTheValidRange) {
+  // a crest of 400 m vertical radius: the plane holds near the car; the valid range ends about
+  // where the road ahead leaves the fitted plane by 8 cm (5 m steps)
+  Scene scene;
+  const double R = 400.0;
+  scene.crest = [R](double z) { return z > 0 ? z * z / (2.0 * R) : 0.0; };
+  RoadSurface road;
+  PlaneEstimate plane;
+  const RoadSurfaceSettings s = settings();
+  ASSERT_TRUE(road.fit(scene.render(), kRows, s, PlaneEstimate(), plane));
+  EXPECT_NEAR(plane.distance, scene.height, 0.1);
+  // where the true road under the camera's path leaves the fitted plane by 8 cm
+  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch);
+  double leaves = 0.0;
+  for (double z = s.fit_range; z < 80.0; z += 0.25) {
+    const double y = scene.height + z * z / (2.0 * R);  // world: down
+    const Eigen::Vector3d p(0.0, c * y - sn * z, sn * y + c * z);  // optical frame
+    if (std::fabs(plane.normal.dot(p) + plane.distance) > 0.08) {
+      leaves = p.z();
+      break;
+    }
+  }
+  ASSERT_GT(leaves, 0.0);
+  EXPECT_GE(road.validRange(), 0.9 * s.fit_range);
+  EXPECT_NEAR(road.validRange(), leaves, 7.5);
+  EXPECT_NEAR(plane.range, road.validRange(), 1e-12);
+}
+
+TEST(RoadSurface, NoRoadNoPlane) {
+  RoadSurface road;
+  PlaneEstimate plane;
+  const cv::Mat none(kH, kW, CV_32FC3, cv::Scalar::all(std::nanf("")));
+  EXPECT_FALSE(road.fit(none, kRows, settings(), PlaneEstimate(), plane));
+  EXPECT_FALSE(plane.valid);
+  // a wall 5 m ahead (an office, a truck's back): vertical, not a road
+  cv::Mat wall(kH, kW, CV_32FC3);
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u)
+      wall.at<cv::Vec3f>(v, u) = cv::Vec3f(static_cast<float>((u - kK.cx) / kK.fx * 5.0),
+                                           static_cast<float>((v - kK.cy) / kK.fy * 5.0), 5.0f);
+  EXPECT_FALSE(road.fit(wall, kRows, settings(), PlaneEstimate(), plane));
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
