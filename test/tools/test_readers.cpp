@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include <camera_calibration_parsers/parse.h>
@@ -98,6 +99,24 @@ TEST(KittiReader, RealFramesDisparityToDepth) {
   EXPECT_TRUE(reader->error().empty());
 }
 
+// A folder of ../shared/realdata opened with a depth source; null (the test skips) when the
+// folder or its @p marker file is absent, a failed ASSERT when it does not open.
+std::unique_ptr<DatasetReader> openRealKitti(const std::string& folder, const std::string& marker,
+                                             const std::string& depth, fs::path& dir) {
+  dir = fs::path(realdata()) / folder;
+  if (!fs::exists(dir / marker)) return nullptr;
+  DatasetOptions o;
+  o.path = dir.string();
+  o.depth = depth;
+  std::string error;
+  auto reader = openDataset(o, error);
+  EXPECT_TRUE(reader) << error;
+  return reader;
+}
+
+#define SKIP_WITHOUT(reader, dir) \
+  if (!(reader)) GTEST_SKIP() << (dir) << " not found or unreadable (set RGBD_LANE_REALDATA)"
+
 // LiDAR pixels of a frame and the SGBM depth against them (StereoCheck), in one call.
 StereoCheck checkAgainstLidar(const DatasetFrame& f) {
   StereoCheck c;
@@ -107,15 +126,10 @@ StereoCheck checkAgainstLidar(const DatasetFrame& f) {
 }
 
 TEST(KittiReader, StereoNegativeWithLidarDepth) {
-  const fs::path dir = fs::path(realdata()) / "kitti_stereo_negative";
-  if (!fs::exists(dir / "000001_lidar_depth.png"))
-    GTEST_SKIP() << "KITTI stereo negative not found in " << dir << " (set RGBD_LANE_REALDATA)";
-  DatasetOptions o;
-  o.path = dir.string();
-  EXPECT_EQ(detectDatasetType(o.path), "kitti");  // not tum_frames: *_lidar_depth.png
-  std::string error;
-  auto reader = openDataset(o, error);
-  ASSERT_TRUE(reader) << error;
+  fs::path dir;
+  auto reader = openRealKitti("kitti_stereo_negative", "000001_lidar_depth.png", "dataset", dir);
+  SKIP_WITHOUT(reader, dir);
+  EXPECT_EQ(detectDatasetType(dir.string()), "kitti");  // not tum_frames: *_lidar_depth.png
   EXPECT_STREQ(reader->kind(), "kitti");
   ASSERT_EQ(reader->size(), 1);
   DatasetFrame f;
@@ -150,15 +164,9 @@ TEST(KittiReader, StereoNegativeWithLidarDepth) {
 }
 
 TEST(KittiReader, StereoNegativeWithSgbmDepth) {
-  const fs::path dir = fs::path(realdata()) / "kitti_stereo_negative";
-  if (!fs::exists(dir / "000001_right.png"))
-    GTEST_SKIP() << "KITTI stereo negative not found in " << dir << " (set RGBD_LANE_REALDATA)";
-  DatasetOptions o;
-  o.path = dir.string();
-  o.depth = "sgbm";
-  std::string error;
-  auto reader = openDataset(o, error);
-  ASSERT_TRUE(reader) << error;
+  fs::path dir;
+  auto reader = openRealKitti("kitti_stereo_negative", "000001_right.png", "sgbm", dir);
+  SKIP_WITHOUT(reader, dir);
   DatasetFrame f;
   ASSERT_TRUE(reader->next(f)) << reader->error();
   EXPECT_EQ(f.depth_source, "sgbm");
@@ -184,15 +192,9 @@ TEST(KittiReader, StereoNegativeWithSgbmDepth) {
 }
 
 TEST(KittiReader, Kitti2015SgbmDepthAgainstLidar) {
-  const fs::path dir = fs::path(realdata()) / "kitti2015";
-  if (!fs::exists(dir / "000000_10_right.png"))
-    GTEST_SKIP() << "KITTI right images not found in " << dir << " (set RGBD_LANE_REALDATA)";
-  DatasetOptions o;
-  o.path = dir.string();
-  o.depth = "sgbm";
-  std::string error;
-  auto reader = openDataset(o, error);
-  ASSERT_TRUE(reader) << error;
+  fs::path dir;
+  auto reader = openRealKitti("kitti2015", "000000_10_right.png", "sgbm", dir);
+  SKIP_WITHOUT(reader, dir);
   ASSERT_EQ(reader->size(), 2);
   DatasetFrame f;
   StereoCheck total;
