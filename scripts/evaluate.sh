@@ -132,7 +132,11 @@ fi
     echo "- \`$name\`: ![$name](images/$name.jpg) [per-frame scores](images/scores_$name.png)"
   done
   [ -f "$IMAGES/kitti.jpg" ] && echo "- KITTI 000001_10, paper | improved: ![kitti](images/kitti.jpg)"
-  for f in "$IMAGES"/kitti_*.jpg; do
+  [ -f "$IMAGES/kitti_sgbm.jpg" ] && echo "- KITTI 000001_10 with SGBM depth, paper | improved: ![kitti_sgbm](images/kitti_sgbm.jpg)"
+  for name in kitti_negative kitti_negative_sgbm; do
+    [ -f "$IMAGES/$name.jpg" ] && echo "- KITTI stereo negative (no lane)$([ "$name" = kitti_negative_sgbm ] && echo ' with SGBM depth'), paper | improved: ![$name](images/$name.jpg)"
+  done
+  for f in "$IMAGES"/kitti_[0-9]*.jpg; do
     [ -f "$f" ] && echo "- KITTI $(basename "$f" .jpg | sed 's/^kitti_//') (improved): ![kitti](images/$(basename "$f"))"
   done
   [ -f "$IMAGES/tum_office.jpg" ] && echo "- TUM office (no road): ![tum_office](images/tum_office.jpg)"
