@@ -4,6 +4,8 @@
 #     it already holds exactly these settings),
 #  2. scores the modes paper, improved and their colour-only ablations on every sequence, and
 #     checks the planes on the real KITTI frames against the LiDAR depth (../shared/realdata),
+#     with the LiDAR depth and with depth from the colour stereo pair (StereoSGBM), which is
+#     itself measured against the LiDAR (evaluate_stereo),
 #  3. writes the generated part of docs/RESULTS.md, the overlay pictures and score plots of
 #     docs/images/.
 # Run with the catkin workspace sourced (`make eval` builds and sources it).
@@ -37,6 +39,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/find_tool.sh"
 GENERATE="$(find_tool generate_sequence)"
 EVALUATE="$(find_tool evaluate_sequences)"
 RUN="$(find_tool run_dataset)"
+STEREO="$(find_tool evaluate_stereo)"
 mkdir -p "$DATA_DIR" "$EVAL_DIR" "$IMAGES"
 
 echo "== generating ${#SEQUENCES[@]} sequences of $FRAMES frames at ${WIDTH}x${HEIGHT} into $DATA_DIR"
@@ -55,12 +58,16 @@ gen_time=$(( $(date +%s) - start ))
 
 args+=(--paper summer=01-SUMMER --paper fog=01-FOG --paper summer_sparse=R200)
 if [ -d "$REALDATA/kitti2015" ]; then
-  args+=(--kitti "kitti=$REALDATA/kitti2015")
+  args+=(--kitti "kitti=$REALDATA/kitti2015" --kitti "kitti_sgbm=$REALDATA/kitti2015" --sgbm kitti_sgbm)
 else
   echo "evaluate.sh: $REALDATA/kitti2015 not found, skipping the KITTI plane check" >&2
 fi
 if [ -d "$REALDATA/tum_office" ]; then
   args+=(--no-lane "tum_office=$REALDATA/tum_office")
+fi
+if [ -d "$REALDATA/kitti_stereo_negative" ]; then
+  args+=(--no-lane "kitti_negative=$REALDATA/kitti_stereo_negative"
+         --no-lane "kitti_negative_sgbm=$REALDATA/kitti_stereo_negative" --sgbm kitti_negative_sgbm)
 fi
 
 echo "== evaluating (modes paper, improved, paper-colour, improved-colour)"
@@ -80,6 +87,10 @@ if [ -d "$REALDATA/kitti2015" ]; then
     cp "$f" "$IMAGES/kitti_$(basename "$f")"
   done
 fi
+# StereoSGBM depth against the LiDAR (one thread, so the ms column compares across runs)
+for set in kitti2015 kitti_stereo_negative; do
+  [ -d "$REALDATA/$set" ] && "$STEREO" --dataset "$REALDATA/$set" --threads 1 > "$EVAL_DIR/stereo_$set.md"
+done
 
 # SOURCE_COMMIT: commit the tools were built from, when that is not this checkout's HEAD
 commit="${SOURCE_COMMIT:-$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
@@ -103,6 +114,14 @@ fi
     done
     echo
   fi
+  if [ -f "$EVAL_DIR/stereo_kitti2015.md" ]; then
+    echo "StereoSGBM depth against the LiDAR (\`evaluate_stereo --threads 1\`, the matcher of"
+    echo "\`--depth sgbm\`; kitti2015 tuned on, kitti_stereo_negative held out):"
+    echo
+    for set in kitti2015 kitti_stereo_negative; do
+      [ -f "$EVAL_DIR/stereo_$set.md" ] && { echo "$set: $(head -n 1 "$EVAL_DIR/stereo_$set.md")"; echo; tail -n +3 "$EVAL_DIR/stereo_$set.md"; echo; }
+    done
+  fi
   echo "Pictures (paper mode left, improved right, middle frame of each sequence):"
   echo
   for pair in "${SEQUENCES[@]}"; do
@@ -113,7 +132,11 @@ fi
     echo "- \`$name\`: ![$name](images/$name.jpg) [per-frame scores](images/scores_$name.png)"
   done
   [ -f "$IMAGES/kitti.jpg" ] && echo "- KITTI 000001_10, paper | improved: ![kitti](images/kitti.jpg)"
-  for f in "$IMAGES"/kitti_*.jpg; do
+  [ -f "$IMAGES/kitti_sgbm.jpg" ] && echo "- KITTI 000001_10 with SGBM depth, paper | improved: ![kitti_sgbm](images/kitti_sgbm.jpg)"
+  for name in kitti_negative kitti_negative_sgbm; do
+    [ -f "$IMAGES/$name.jpg" ] && echo "- KITTI stereo negative (no lane)$([ "$name" = kitti_negative_sgbm ] && echo ' with SGBM depth'), paper | improved: ![$name](images/$name.jpg)"
+  done
+  for f in "$IMAGES"/kitti_[0-9]*.jpg; do
     [ -f "$f" ] && echo "- KITTI $(basename "$f" .jpg | sed 's/^kitti_//') (improved): ![kitti](images/$(basename "$f"))"
   done
   [ -f "$IMAGES/tum_office.jpg" ] && echo "- TUM office (no road): ![tum_office](images/tum_office.jpg)"

@@ -11,6 +11,7 @@ PACKAGES=(
   libimage-transport-dev image-transport-tools libcv-bridge-dev python3-cv-bridge
   libmessage-filters-dev libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev python3-tf2-ros
   libdiagnostic-updater-dev libcamera-calibration-parsers-dev libyaml-cpp-dev libvisualization-msgs-dev
+  libstereo-msgs-dev ros-stereo-image-proc libstereo-image-proc-dev ros-image-proc libimage-proc-dev
   librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-sensor-msgs
   libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev
   python3-opencv python3-numpy python3-matplotlib

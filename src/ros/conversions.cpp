@@ -218,6 +218,38 @@ const char* frameFromMsgs(const sensor_msgs::Image& colour, const sensor_msgs::I
   return nullptr;
 }
 
+const char* disparityFromMsg(const stereo_msgs::DisparityImage& msg, cv::Mat& disparity,
+                             DisparityModel& model, cv::Mat& swap_buffer) {
+  const sensor_msgs::Image& image = msg.image;
+  if (image.encoding != enc::TYPE_32FC1)
+    return "unsupported disparity encoding (expected 32FC1, stereo_msgs/DisparityImage)";
+  if (image.width == 0 || image.height == 0) return "empty disparity image";
+  if (const char* problem = checkLayout(image, sizeof(float), sizeof(float))) return problem;
+  DisparityModel m;
+  m.focal = msg.f;
+  m.baseline = msg.T;
+  m.min_disparity = msg.min_disparity;
+  m.max_disparity = msg.max_disparity;
+  m.delta_d = msg.delta_d;
+  const sensor_msgs::RegionOfInterest& w = msg.valid_window;
+  if (w.width > 0 && w.height > 0) {  // else: the whole image
+    // clipped to the image here, so that the int rectangle cannot overflow
+    const uint32_t x0 = std::min(w.x_offset, image.width), y0 = std::min(w.y_offset, image.height);
+    m.valid_window = cv::Rect(static_cast<int>(x0), static_cast<int>(y0),
+                              static_cast<int>(std::min(w.width, image.width - x0)),
+                              static_cast<int>(std::min(w.height, image.height - y0)));
+    if (m.valid_window.empty()) return "disparity valid_window lies outside the image";
+  }
+  if (const char* problem = m.problem()) return problem;
+  disparity = wrap(image, CV_32FC1);
+  if (static_cast<bool>(image.is_bigendian) != kHostBigEndian) {
+    byteSwapRows<float>(disparity, swap_buffer);
+    disparity = swap_buffer;
+  }
+  model = m;
+  return nullptr;
+}
+
 // ---------------------------------------------------------------------------
 // Parameters
 

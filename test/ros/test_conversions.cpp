@@ -1,6 +1,7 @@
 // Unit tests of the message <-> core conversions (no ROS master needed).
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -121,6 +122,64 @@ TEST(Conversions, ForeignByteOrderDepthIsSwapped) {
   ASSERT_EQ(conv::depthFromMsg(mm, depth, scale, swap), nullptr);
   EXPECT_EQ(depth.data, swap.data);
   EXPECT_EQ(depth.at<uint16_t>(1, 1), 1500);
+}
+
+TEST(Conversions, DisparityImageReadInPlaceWithItsModel) {
+  stereo_msgs::DisparityImage m;
+  m.image.width = 3;
+  m.image.height = 2;
+  m.image.encoding = enc::TYPE_32FC1;
+  m.image.is_bigendian = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
+  m.image.step = 16;  // one float of padding per row
+  m.image.data.assign(32, 0);
+  const float v = 42.f;
+  std::memcpy(&m.image.data[16 + 4], &v, 4);  // (x 1, y 1)
+  m.f = 700.f;
+  m.T = 0.12f;
+  m.min_disparity = 1.f;
+  m.max_disparity = 64.f;
+  m.delta_d = 0.0625f;
+  m.valid_window.x_offset = 1;
+  m.valid_window.width = 5;  // beyond the image: clipped
+  m.valid_window.height = 2;
+  cv::Mat d, swap;
+  DisparityModel model;
+  ASSERT_EQ(conv::disparityFromMsg(m, d, model, swap), nullptr);
+  EXPECT_EQ(d.type(), CV_32FC1);
+  EXPECT_EQ(d.data, m.image.data.data());  // no copy
+  EXPECT_EQ(d.step, 16u);
+  EXPECT_FLOAT_EQ(d.at<float>(1, 1), 42.f);
+  EXPECT_FLOAT_EQ(model.focal, 700.f);
+  EXPECT_FLOAT_EQ(model.baseline, 0.12f);
+  EXPECT_FLOAT_EQ(model.min_disparity, 1.f);
+  EXPECT_FLOAT_EQ(model.max_disparity, 64.f);
+  EXPECT_FLOAT_EQ(model.delta_d, 0.0625f);
+  EXPECT_EQ(model.valid_window, cv::Rect(1, 0, 2, 2));
+  m.valid_window = sensor_msgs::RegionOfInterest();  // all zero: the whole image
+  ASSERT_EQ(conv::disparityFromMsg(m, d, model, swap), nullptr);
+  EXPECT_TRUE(model.valid_window.empty());
+  // problems are named, the outputs left alone
+  const DisparityModel before = model;
+  auto bad = [&](const std::function<void(stereo_msgs::DisparityImage&)>& spoil) {
+    stereo_msgs::DisparityImage b = m;
+    spoil(b);
+    cv::Mat out;
+    DisparityModel mo = before;
+    const char* problem = conv::disparityFromMsg(b, out, mo, swap);
+    EXPECT_TRUE(out.empty());
+    return problem ? std::string(problem) : std::string();
+  };
+  EXPECT_NE(bad([](auto& b) { b.image.encoding = enc::TYPE_16UC1; }).find("encoding"),
+            std::string::npos);
+  EXPECT_NE(bad([](auto& b) { b.image.width = 0; }).find("empty"), std::string::npos);
+  EXPECT_NE(bad([](auto& b) { b.image.data.resize(20); }).find("shorter"), std::string::npos);
+  EXPECT_NE(bad([](auto& b) { b.f = 0.f; }).find("focal"), std::string::npos);
+  EXPECT_NE(bad([](auto& b) { b.T = 0.f; }).find("baseline"), std::string::npos);
+  EXPECT_NE(bad([](auto& b) {
+              b.valid_window.x_offset = 3;
+              b.valid_window.width = b.valid_window.height = 1;
+            }).find("valid_window"),
+            std::string::npos);
 }
 
 TEST(Conversions, IntrinsicsFromProjectionElseK) {

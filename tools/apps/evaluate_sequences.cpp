@@ -19,6 +19,7 @@
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector_tools/command_line.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
+#include "rgbd_lane_detector_tools/detector_setup.h"
 #include "rgbd_lane_detector_tools/params_io.h"
 #include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/progress.h"
@@ -89,7 +90,8 @@ cv::Mat sideBySide(const std::vector<cv::Mat>& images, const std::vector<std::st
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> seqs, kittis, nolanes, paper_map;
+  std::vector<std::string> seqs, kittis, nolanes, paper_map, sgbm_inputs;
+  tools::SgbmParams sgbm;
   std::string modes_arg = "paper,improved,paper-colour,improved-colour", params_file;
   std::string out_dir = "build/eval", markdown, csv_path, images_dir;
   std::string picture_modes = "paper,improved";
@@ -103,6 +105,11 @@ int main(int argc, char** argv) {
   cl.add("seq", "NAME=PATH of a SYNTHIA-SEQS folder with GT/LANES", &seqs);
   cl.add("kitti", "NAME=PATH of KITTI frames (plane check against the LiDAR depth)", &kittis);
   cl.add("no-lane", "NAME=PATH of frames without any lane (every report is an FP)", &nolanes);
+  cl.add("sgbm",
+         "NAME of a --kitti / --no-lane input whose depth is computed from its colour stereo pair "
+         "(StereoSGBM) instead of read (its LiDAR still checks the plane)",
+         &sgbm_inputs);
+  tools::addSgbmOptions(cl, sgbm);
   cl.add("paper", "NAME=ROW: show the paper's Table 1 row ROW (01-SUMMER, 01-FOG, 06-FOG, R200)",
          &paper_map);
   cl.add("modes", "comma-separated modes (paper, improved, paper-colour, improved-colour)",
@@ -137,6 +144,13 @@ int main(int argc, char** argv) {
   if (inputs.empty()) {
     std::cerr << "evaluate_sequences: give at least one --seq, --kitti or --no-lane\n";
     return 2;
+  }
+  for (const auto& name : sgbm_inputs) {
+    if (std::none_of(inputs.begin(), inputs.end(),
+                     [&name](const Input& in) { return in.name == name; })) {
+      std::cerr << "evaluate_sequences: --sgbm " << name << ": no input of that name\n";
+      return 2;
+    }
   }
   std::map<std::string, const PaperRow*> paper_rows;
   for (const auto& a : paper_map) {
@@ -204,6 +218,10 @@ int main(int argc, char** argv) {
     tools::DatasetOptions opts;
     opts.path = in.path;
     opts.max_frames = max_frames;
+    if (std::find(sgbm_inputs.begin(), sgbm_inputs.end(), in.name) != sgbm_inputs.end()) {
+      opts.depth = "sgbm";
+      opts.sgbm = sgbm;
+    }
     std::string error;
     auto reader = tools::openDataset(opts, error);
     if (!reader) {
@@ -236,9 +254,13 @@ int main(int argc, char** argv) {
     while (reader->next(f)) {
       const tools::FrameTruth* t = truth.find(f.index);
       std::vector<Eigen::Vector3d> region;
-      if (in.kind == Input::kKitti)
-        tools::regionPoints(f.depth, f.depth_scale, f.intrinsics,
-                            tools::roadCheckRegion(f.depth.size(), f.intrinsics), 40.0, region);
+      if (in.kind == Input::kKitti) {
+        cv::Mat reference;  // the LiDAR, also when the detector gets SGBM depth
+        double scale;
+        f.referenceDepth(reference, scale);
+        tools::regionPoints(reference, scale, f.intrinsics,
+                            tools::roadCheckRegion(reference.size(), f.intrinsics), 40.0, region);
+      }
       for (size_t m = 0; m < modes.size(); ++m) {
         if (reader->independentFrames()) detectors[m]->reset();
         detectors[m]->detect(f.toFrame(), r);
@@ -325,7 +347,8 @@ int main(int argc, char** argv) {
         any_real = true;
         const RealStats& st = reals[m];
         const double fr = std::max(1, st.frames);
-        real << "| " << in.name << (in.kind == Input::kNoLane ? " (no lane: reports are FP)" : "")
+        real << "| " << in.name << (opts.depth == "sgbm" ? " (SGBM depth)" : "")
+             << (in.kind == Input::kNoLane ? " (no lane: reports are FP)" : "")
              << " | " << modes[m].name << " | " << st.frames << " | "
              << fmt("%.0f", 100.0 * st.reported / fr) << " | "
              << fmt("%.0f", 100.0 * st.planes / fr) << " | "

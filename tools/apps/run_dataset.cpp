@@ -33,13 +33,16 @@ struct PlaneCheckTotals {
   int reference_frames = 0;
 };
 
-// Residuals of the LiDAR / depth points of the road region with respect to the detected plane,
-// and the angle to a RANSAC plane of the same points. Returns a JSON member.
+// Residuals of the LiDAR (else depth) points of the road region with respect to the detected
+// plane, and the angle to a RANSAC plane of the same points. Returns a JSON member.
 std::string checkPlane(const tools::DatasetFrame& f, const Result& r, PlaneCheckTotals& t) {
   if (!r.plane.valid) return "\"plane_check\": null";
   std::vector<Eigen::Vector3d> pts;
-  const cv::Rect region = tools::roadCheckRegion(f.depth.size(), f.intrinsics);
-  tools::regionPoints(f.depth, f.depth_scale, f.intrinsics, region, 40.0, pts);
+  cv::Mat reference;
+  double scale;
+  f.referenceDepth(reference, scale);
+  const cv::Rect region = tools::roadCheckRegion(reference.size(), f.intrinsics);
+  tools::regionPoints(reference, scale, f.intrinsics, region, 40.0, pts);
   const tools::PlaneResiduals res = tools::planeResiduals(pts, r.plane.normal, r.plane.distance);
   std::string out = "\"plane_check\": {\"points\": " + std::to_string(res.points) +
                     ", \"mean_abs\": " + tools::jsonNumber(res.mean_abs) +
@@ -87,7 +90,9 @@ int main(int argc, char** argv) {
   cl.add("video", "overlay video path (MJPG .avi; default <out>/overlay.avi, 'none' to skip)",
          &video);
   cl.add("video-fps", "frame rate of the overlay video (default 10)", &video_fps);
-  cl.addFlag("plane-check", "compare each plane with the depth of the road region (LiDAR)",
+  cl.addFlag("plane-check",
+             "compare each plane with the depth of the road region (the LiDAR when the dataset "
+             "has one, also with --depth sgbm)",
              &plane_check);
   cl.addFlag("candidates", "draw every traced candidate line and its verdict on the overlays",
              &draw_candidates);
@@ -214,9 +219,10 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::printf(
-      "frames %d, processed %d, lane reported %d (%.1f%%), plane %d (%.1f%%), %.2f ms/frame\n",
+      "frames %d, processed %d, lane reported %d (%.1f%%), plane %d (%.1f%%), %.2f ms/frame "
+      "(depth: %s)\n",
       frames, processed, reported, 100.0 * reported / frames, planes, 100.0 * planes / frames,
-      processed ? sum_ms / processed : 0.0);
+      processed ? sum_ms / processed : 0.0, frame.depth_source.c_str());
   if (have_truth) {
     std::printf(
         "ground truth: TP %.1f%%  FP %.1f%%  miss %.1f%%  angle err %.3f deg  offset err "

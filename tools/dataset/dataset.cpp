@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "readers_internal.h"
+#include "rgbd_lane_detector/disparity_depth.h"
 
 namespace rgbd_lane_detector {
 namespace tools {
@@ -30,6 +31,12 @@ Frame DatasetFrame::toFrame() const {
   return f;
 }
 
+void DatasetFrame::referenceDepth(cv::Mat& reference, double& scale) const {
+  const bool lidar = !lidar_depth.empty();
+  reference = lidar ? lidar_depth : depth;
+  scale = lidar ? lidar_depth_scale : depth_scale;
+}
+
 std::string detectDatasetType(const std::string& path) {
   std::error_code ec;
   const fs::path p(path);
@@ -39,19 +46,22 @@ std::string detectDatasetType(const std::string& path) {
   if (fs::exists(p / "associations.txt", ec) ||
       (fs::exists(p / "rgb.txt", ec) && fs::exists(p / "depth.txt", ec)))
     return "tum";
-  bool depth_frames = false;
+  bool depth_frames = false, stereo_frames = false;
   for (const auto& e : fs::directory_iterator(p, ec)) {
     const std::string n = e.path().filename().string();
     auto ends = [&n](const std::string& s) {
       return n.size() > s.size() && n.compare(n.size() - s.size(), s.size(), s) == 0;
     };
-    if (ends("_disparity.png")) return "kitti";
+    if (ends("_disparity.png") || ends("_lidar_depth.png")) return "kitti";
     if (ends("_depth.png")) depth_frames = true;
+    if (ends("_right.png")) stereo_frames = true;  // a KITTI pair without LiDAR (depth sgbm)
   }
   if (fs::is_directory(p / "image_2", ec) &&
-      (fs::is_directory(p / "disp_occ_0", ec) || fs::is_directory(p / "disp_noc_0", ec)))
+      (fs::is_directory(p / "disp_occ_0", ec) || fs::is_directory(p / "disp_noc_0", ec) ||
+       fs::is_directory(p / "image_3", ec)))
     return "kitti";
-  return depth_frames ? "tum_frames" : "";
+  if (depth_frames) return "tum_frames";
+  return stereo_frames ? "kitti" : "";
 }
 
 std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::string& error) {
@@ -64,6 +74,10 @@ std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::s
     error = "dataset not found: " + options.path;
     return nullptr;
   }
+  if (options.depth != "dataset" && options.depth != "sgbm") {
+    error = "unknown depth source '" + options.depth + "' (dataset, sgbm)";
+    return nullptr;
+  }
   std::string type = options.type;
   if (type.empty() || type == "auto") {
     type = detectDatasetType(options.path);
@@ -73,6 +87,11 @@ std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::s
               "frames, or a .bag file); use --type";
       return nullptr;
     }
+  }
+  if (options.depth == "sgbm" && type != "kitti") {
+    error = "depth sgbm needs a colour stereo pair: a KITTI folder (<id>_left.png + "
+            "<id>_right.png, or image_2/ + image_3/), not a " + type + " dataset";
+    return nullptr;
   }
   if (type == "synthia") return internal::openSynthia(options, error);
   if (type == "tum") return internal::openTum(options, error);
@@ -228,9 +247,14 @@ bool parseKittiCalibration(std::istream& in, const std::string& source, Intrinsi
     while (ss >> x) v.push_back(x);
     rows[line.substr(0, colon)] = v;
   }
-  const auto p2 = rows.find("P_rect_02"), p3 = rows.find("P_rect_03");
+  // raw data (calib_cam_to_cam.txt) or object / odometry format (calib.txt)
+  auto p2 = rows.find("P_rect_02"), p3 = rows.find("P_rect_03");
+  if (p2 == rows.end() && p3 == rows.end()) {
+    p2 = rows.find("P2");
+    p3 = rows.find("P3");
+  }
   if (p2 == rows.end() || p2->second.size() != 12 || p3 == rows.end() || p3->second.size() != 12) {
-    error = "KITTI calibration " + source + " lacks P_rect_02 / P_rect_03";
+    error = "KITTI calibration " + source + " lacks P_rect_02 / P_rect_03 (or P2 / P3)";
     return false;
   }
   const std::vector<double>& a = p2->second;
@@ -247,14 +271,13 @@ bool parseKittiCalibration(std::istream& in, const std::string& source, Intrinsi
 
 void kittiDisparityToDepth(const cv::Mat& disparity, double fx, double baseline, cv::Mat& depth) {
   CV_Assert(disparity.type() == CV_16UC1);
-  depth.create(disparity.size(), CV_32FC1);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const double fb = fx * baseline * 256.0;
-  for (int y = 0; y < disparity.rows; ++y) {
-    const uint16_t* d = disparity.ptr<uint16_t>(y);
-    float* z = depth.ptr<float>(y);
-    for (int x = 0; x < disparity.cols; ++x) z[x] = d[x] ? static_cast<float>(fb / d[x]) : nan;
-  }
+  disparity.convertTo(depth, CV_32F, 1.0 / 256.0);  // 0 (no data) stays 0: invalid below
+  DisparityModel model;
+  model.focal = fx;
+  model.baseline = baseline;
+  model.delta_d = 1.0 / 256.0;
+  const char* problem = disparityToDepth(depth, model, depth);  // in place
+  CV_Assert(problem == nullptr);
 }
 
 namespace internal {

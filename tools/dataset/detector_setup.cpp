@@ -52,6 +52,25 @@ void addDatasetOptions(CommandLine& cl, DatasetOptions& o) {
          &o.colour_topic);
   cl.add("depth-topic", "bag depth topic (default depth_registered/image_rect)", &o.depth_topic);
   cl.add("info-topic", "bag camera_info topic (default rgb/camera_info)", &o.info_topic);
+  cl.add("depth",
+         "depth given to the detector: dataset (default: the folder's own, KITTI's LiDAR) or "
+         "sgbm (OpenCV StereoSGBM on the colour stereo pair of KITTI folders with *_right.png)",
+         &o.depth);
+  addSgbmOptions(cl, o.sgbm);
+}
+
+void addSgbmOptions(CommandLine& cl, SgbmParams& params) {
+  cl.addCustom("sgbm-param", "KEY=VALUE",
+               "StereoSGBM setting for --depth sgbm (repeatable; defaults: " +
+                   sgbmParamsText(SgbmParams()) + ")",
+               [&params](const std::string& kv, std::string& error) {
+                 const size_t eq = kv.find('=');
+                 if (eq == std::string::npos) {
+                   error = "--sgbm-param " + kv + ": expected key=value";
+                   return false;
+                 }
+                 return setSgbmParam(params, kv.substr(0, eq), kv.substr(eq + 1), error);
+               });
 }
 
 }  // namespace tools

@@ -1,9 +1,11 @@
 // Folder datasets: SYNTHIA-SEQS, TUM RGB-D (associations or rgb/depth lists), numbered TUM
-// frames (N.png + N_depth.png) and KITTI stereo frames with disparity.
+// frames (N.png + N_depth.png) and KITTI stereo frames with LiDAR disparity or depth, or with
+// depth from their colour stereo pair (StereoSGBM).
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
@@ -16,13 +18,19 @@ namespace internal {
 namespace {
 namespace fs = std::filesystem;
 
+enum class DepthEncoding {
+  kUint16,          // the reader's depth scale
+  kKittiDisparity,  // KITTI 2015 disparity PNG: value / 256 px, 0 none
+  kKittiDepth,      // KITTI depth PNG (projected LiDAR): value / 256 m, 0 none
+};
+
 struct FileEntry {
   std::string colour, depth, name;
   int index = 0;
   double stamp = 0.0;
+  DepthEncoding encoding = DepthEncoding::kUint16;
+  std::string right;  // right colour image of a stereo pair (KITTI), or empty
 };
-
-enum class DepthEncoding { kUint16, kKittiDisparity };
 
 bool allDigits(const std::string& s) {
   return !s.empty() && s.size() <= 9 && s.find_first_not_of("0123456789") == std::string::npos;
@@ -32,9 +40,9 @@ bool allDigits(const std::string& s) {
 class FileSequenceReader : public DatasetReader {
  public:
   FileSequenceReader(const char* kind, std::vector<FileEntry> entries, const DatasetOptions& o,
-                     const Intrinsics& K, double scale, DepthEncoding enc, double baseline,
-                     std::string gt)
-      : kind_(kind), K_(K), scale_(scale), encoding_(enc), baseline_(baseline), gt_(std::move(gt)) {
+                     const Intrinsics& K, double scale, double baseline, std::string gt)
+      : kind_(kind), K_(K), scale_(scale), baseline_(baseline), gt_(std::move(gt)) {
+    if (o.depth == "sgbm") stereo_ = std::make_unique<StereoMatcher>(o.sgbm);
     const int step = std::max(1, o.step);
     for (size_t i = std::max(0, o.first); i < entries.size(); i += step) {
       if (o.max_frames >= 0 && static_cast<int>(entries_.size()) >= o.max_frames) break;
@@ -54,22 +62,25 @@ class FileSequenceReader : public DatasetReader {
     try {
       f.colour = cv::imread(e.colour, cv::IMREAD_COLOR);
       if (f.colour.empty()) return fail("cannot read colour image " + e.colour);
-      cv::Mat raw = cv::imread(e.depth, cv::IMREAD_UNCHANGED);
-      if (raw.empty()) return fail("cannot read depth image " + e.depth);
-      if (raw.depth() != CV_16U) return fail("depth image is not 16-bit: " + e.depth);
-      if (raw.channels() > 1) cv::extractChannel(raw, raw, 0);  // SYNTHIA: same value in 3
-      if (encoding_ == DepthEncoding::kKittiDisparity) {
-        kittiDisparityToDepth(raw, K_.fx, baseline_, f.depth);
+      f.lidar_depth.release();
+      if (!e.depth.empty() && !readDepth(e, f)) return false;
+      if (stereo_) {
+        const cv::Mat right = cv::imread(e.right, cv::IMREAD_COLOR);
+        if (right.empty()) return fail("cannot read right image " + e.right);
+        f.depth = cv::Mat();  // a new image: f.depth may share the LiDAR depth's pixels
+        if (const char* problem = stereo_->depth(f.colour, right, K_.fx, baseline_, f.depth))
+          return fail(std::string(problem) + ": " + e.colour + " / " + e.right);
         f.depth_scale = 1.0;
-      } else {
-        f.depth = raw;
-        f.depth_scale = scale_;
+        f.depth_source = "sgbm";
       }
     } catch (const cv::Exception& ex) {
       return fail("cannot decode " + e.colour + ": " + ex.what());
     }
     if (f.colour.size() != f.depth.size())
       return fail("colour and depth differ in size: " + e.colour + " / " + e.depth);
+    if (!f.lidar_depth.empty() && f.lidar_depth.size() != f.colour.size())
+      return fail("colour and LiDAR depth differ in size: " + e.colour + " / " + e.depth);
+    f.baseline = baseline_;
     f.format = PixelFormat::kBgr8;
     f.intrinsics = K_;
     f.index = e.index;
@@ -79,6 +90,32 @@ class FileSequenceReader : public DatasetReader {
   }
 
  private:
+  // The entry's depth file into f.depth (and f.lidar_depth for KITTI's LiDAR).
+  bool readDepth(const FileEntry& e, DatasetFrame& f) {
+    cv::Mat raw = cv::imread(e.depth, cv::IMREAD_UNCHANGED);
+    if (raw.empty()) return fail("cannot read depth image " + e.depth);
+    if (raw.depth() != CV_16U) return fail("depth image is not 16-bit: " + e.depth);
+    if (raw.channels() > 1) cv::extractChannel(raw, raw, 0);  // SYNTHIA: same value in 3
+    switch (e.encoding) {
+      case DepthEncoding::kKittiDisparity:
+        kittiDisparityToDepth(raw, K_.fx, baseline_, f.depth);
+        f.depth_scale = 1.0;
+        break;
+      case DepthEncoding::kKittiDepth:
+        f.depth = raw;
+        f.depth_scale = 1.0 / 256.0;
+        break;
+      case DepthEncoding::kUint16:
+        f.depth = raw;
+        f.depth_scale = scale_;
+        f.depth_source = "sensor";
+        return true;
+    }
+    f.lidar_depth = f.depth;
+    f.lidar_depth_scale = f.depth_scale;
+    f.depth_source = "lidar";
+    return true;
+  }
   bool fail(const std::string& m) {
     error_ = m;
     pos_ = entries_.size();
@@ -89,9 +126,9 @@ class FileSequenceReader : public DatasetReader {
   size_t pos_ = 0;
   Intrinsics K_;
   double scale_;
-  DepthEncoding encoding_;
   double baseline_;
   std::string gt_;
+  std::unique_ptr<StereoMatcher> stereo_;  // depth from the stereo pair (depth = "sgbm")
 };
 
 std::vector<fs::path> listFiles(const fs::path& dir, const std::string& suffix) {
@@ -176,8 +213,8 @@ std::unique_ptr<DatasetReader> openSynthia(const DatasetOptions& o, std::string&
   }
   const fs::path gt = root / "GT/LANES/ground_truth.json";
   return std::make_unique<FileSequenceReader>(
-      "synthia", entries, o, K, o.depth_scale > 0 ? o.depth_scale : 0.01, DepthEncoding::kUint16,
-      0.0, fs::exists(gt, ec) ? gt.string() : std::string());
+      "synthia", entries, o, K, o.depth_scale > 0 ? o.depth_scale : 0.01, 0.0,
+      fs::exists(gt, ec) ? gt.string() : std::string());
 }
 
 std::unique_ptr<DatasetReader> openTum(const DatasetOptions& o, std::string& error) {
@@ -214,7 +251,7 @@ std::unique_ptr<DatasetReader> openTum(const DatasetOptions& o, std::string& err
   if (!applyCameraInfo(o, K, error)) return nullptr;
   return std::make_unique<FileSequenceReader>("tum", entries, o, K,
                                               o.depth_scale > 0 ? o.depth_scale : 1.0 / 5000.0,
-                                              DepthEncoding::kUint16, 0.0, std::string());
+                                              0.0, std::string());
 }
 
 std::unique_ptr<DatasetReader> openTumFrames(const DatasetOptions& o, std::string& error) {
@@ -245,30 +282,49 @@ std::unique_ptr<DatasetReader> openTumFrames(const DatasetOptions& o, std::strin
   if (!applyCameraInfo(o, K, error)) return nullptr;
   return std::make_unique<FileSequenceReader>("tum_frames", entries, o, K,
                                               o.depth_scale > 0 ? o.depth_scale : 1.0 / 5000.0,
-                                              DepthEncoding::kUint16, 0.0, std::string());
+                                              0.0, std::string());
 }
 
 std::unique_ptr<DatasetReader> openKitti(const DatasetOptions& o, std::string& error) {
   const fs::path root(o.path);
+  const bool sgbm = o.depth == "sgbm";
   std::vector<FileEntry> entries;
   std::error_code ec;
-  for (const auto& p : listFiles(root, "_disparity.png")) {
+  auto existing = [&ec](const fs::path& p) { return fs::exists(p, ec) ? p.string() : ""; };
+  // ../shared/realdata layout: <id>_left.png, <id>_right.png, and the LiDAR as
+  // <id>_disparity.png (KITTI 2015) or <id>_lidar_depth.png (projected scan)
+  for (const auto& p : listFiles(root, "_left.png")) {
     const std::string n = p.filename().string();
-    const std::string id = n.substr(0, n.size() - 14);
-    const fs::path colour = root / (id + "_left.png");
-    if (!fs::exists(colour, ec)) continue;
-    entries.push_back({colour.string(), p.string(), id, 0, 0.0});
+    const std::string id = n.substr(0, n.size() - 9);
+    FileEntry e;
+    e.colour = p.string();
+    e.name = id;
+    e.right = existing(root / (id + "_right.png"));
+    e.depth = existing(root / (id + "_disparity.png"));
+    e.encoding = DepthEncoding::kKittiDisparity;
+    if (e.depth.empty()) {
+      e.depth = existing(root / (id + "_lidar_depth.png"));
+      e.encoding = DepthEncoding::kKittiDepth;
+    }
+    if (sgbm ? !e.right.empty() : !e.depth.empty()) entries.push_back(e);
   }
   for (const char* disp : {"disp_occ_0", "disp_noc_0"}) {  // KITTI 2015 training layout
     if (!entries.empty()) break;
-    for (const auto& p : listFiles(root / disp, ".png")) {
-      const fs::path colour = root / "image_2" / p.filename();
-      if (fs::exists(colour, ec))
-        entries.push_back({colour.string(), p.string(), p.stem().string(), 0, 0.0});
+    for (const auto& p : listFiles(root / "image_2", ".png")) {
+      FileEntry e;
+      e.colour = p.string();
+      e.name = p.stem().string();
+      e.right = existing(root / "image_3" / p.filename());
+      e.depth = existing(root / disp / p.filename());
+      e.encoding = DepthEncoding::kKittiDisparity;
+      if (sgbm ? !e.right.empty() : !e.depth.empty()) entries.push_back(e);
     }
   }
   if (entries.empty()) {
-    error = "KITTI folder " + o.path + ": no <id>_left.png + <id>_disparity.png pairs";
+    error = "KITTI folder " + o.path +
+            (sgbm ? ": no <id>_left.png + <id>_right.png pairs (or image_2/ + image_3/)"
+                  : ": no <id>_left.png + <id>_disparity.png or <id>_lidar_depth.png pairs "
+                    "(or image_2/ + disp_occ_0/)");
     return nullptr;
   }
   sortEntries(entries);
@@ -276,15 +332,18 @@ std::unique_ptr<DatasetReader> openKitti(const DatasetOptions& o, std::string& e
     entries[i].index = static_cast<int>(i);
     entries[i].stamp = i / 10.0;
   }
-  // P_rect_02 of the 2011-09-26 calibration (../shared/realdata/kitti2015/README)
+  // P_rect_02 of the 2011-09-26 calibration (../shared/realdata/README.md)
   Intrinsics K{721.5377, 721.5377, 609.5593, 172.854};
   double baseline = 0.53273;
-  const fs::path calib = root / "calib_cam_to_cam.txt";
-  if (fs::exists(calib, ec) && !readKittiCalibration(calib.string(), K, baseline, error))
-    return nullptr;
+  for (const char* name : {"calib_cam_to_cam.txt", "calib.txt"}) {
+    const fs::path calib = root / name;
+    if (!fs::exists(calib, ec)) continue;
+    if (!readKittiCalibration(calib.string(), K, baseline, error)) return nullptr;
+    break;
+  }
   if (!applyCameraInfo(o, K, error)) return nullptr;
-  return std::make_unique<FileSequenceReader>(
-      "kitti", entries, o, K, 1.0, DepthEncoding::kKittiDisparity, baseline, std::string());
+  return std::make_unique<FileSequenceReader>("kitti", entries, o, K, 1.0, baseline,
+                                              std::string());
 }
 
 }  // namespace internal

@@ -1,7 +1,8 @@
 /**
  * @file conversions.h
  * @brief Every conversion between ROS messages and the ROS-free core (the only place that
- * knows both): input images and camera_info to a core Frame (read in place), core results to
+ * knows both): input images and camera_info to a core Frame (read in place), stereo disparity
+ * images to the core's disparity model, core results to
  * the output messages, dynamic_reconfigure Config to core Params, tf transforms to Eigen.
  *
  * Functions that can fail return a static, human-readable description of the problem
@@ -22,8 +23,10 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
+#include <stereo_msgs/DisparityImage.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "rgbd_lane_detector/disparity_depth.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -92,6 +95,21 @@ sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, int width,
 const char* frameFromMsgs(const sensor_msgs::Image& colour, const sensor_msgs::Image& depth,
                           const sensor_msgs::CameraInfo& info, Frame& frame,
                           cv::Mat& swap_buffer);
+
+/**
+ * @brief A stereo disparity image (stereo_msgs/DisparityImage) as a cv::Mat header on its
+ * 32FC1 data and the core's DisparityModel (f, T, min / max disparity, delta_d, valid window;
+ * a window of zero size means the whole image, as in sensor_msgs/RegionOfInterest). Only an
+ * image whose byte order differs from the host's is copied (into @p swap_buffer).
+ * @param[in] msg disparity message; must outlive @p disparity.
+ * @param[out] disparity CV_32FC1 header onto msg.image.data.
+ * @param[out] model geometry and validity range for disparityToDepth().
+ * @param[in,out] swap_buffer storage for byte-swapped disparities, reused across messages.
+ * @return nullptr on success, else a static description of the problem (encoding, empty
+ * image, layout, unusable f / T / range).
+ */
+const char* disparityFromMsg(const stereo_msgs::DisparityImage& msg, cv::Mat& disparity,
+                             DisparityModel& model, cv::Mat& swap_buffer);
 
 // ---------------------------------------------------------------------------
 // Parameters

@@ -33,9 +33,12 @@ void addParamOptions(CommandLine& cl, ParamChoice& choice);
  */
 bool buildParams(const ParamChoice& choice, Params& params, std::string& error);
 
-/// Register --type, --camera-info, --depth-scale, --first, --step, --max-frames and the
-/// bag topic options on @p options (the path is set separately).
+/// Register --type, --camera-info, --depth-scale, --first, --step, --max-frames, the bag topic
+/// options, --depth and --sgbm-param on @p options (the path is set separately).
 void addDatasetOptions(CommandLine& cl, DatasetOptions& options);
+
+/// Register --sgbm-param key=value (repeatable): StereoSGBM settings (setSgbmParam()).
+void addSgbmOptions(CommandLine& cl, SgbmParams& params);
 
 }  // namespace tools
 }  // namespace rgbd_lane_detector

@@ -4,7 +4,9 @@
  * KITTI stereo frames of ../shared/realdata, TUM-style numbered frames and rosbags.
  *
  * Every reader yields frames ready for LaneDetector::detect(): colour, registered depth
- * (CV_16UC1 with a scale, or CV_32FC1 metres with NaN invalid) and intrinsics.
+ * (CV_16UC1 with a scale, or CV_32FC1 metres with NaN invalid) and intrinsics. KITTI folders
+ * give the LiDAR depth, or depth computed from their colour stereo pair (DatasetOptions::depth
+ * = "sgbm"), with the LiDAR kept as the reference.
  */
 #pragma once
 
@@ -17,6 +19,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/types.h"
+#include "rgbd_lane_detector_tools/stereo/stereo_matcher.h"
 
 namespace rgbd_lane_detector {
 namespace tools {
@@ -31,8 +34,22 @@ struct DatasetFrame {
   cv::Mat depth;  ///< CV_16UC1 (depth_scale m/unit) or CV_32FC1 metres (NaN / 0 invalid)
   double depth_scale = 0.001;
   Intrinsics intrinsics;
+  /// The dataset's LiDAR depth (KITTI) whatever @ref depth holds (it is the same image unless
+  /// the depth is computed from the stereo pair): CV_16UC1 (lidar_depth_scale m/unit, 0 none)
+  /// or CV_32FC1 metres (NaN none). Empty when the dataset has no LiDAR.
+  cv::Mat lidar_depth;
+  double lidar_depth_scale = 1.0;
+  double baseline = 0.0;      ///< stereo baseline (m) of a stereo dataset (KITTI), else 0
+  std::string depth_source = "sensor";  ///< "lidar", "sgbm" or "sensor" (RGB-D camera, renderer)
   /// The frame as the detector's input (headers onto this frame's images).
   Frame toFrame() const;
+  /**
+   * @brief The depth to check results against: the LiDAR when the frame has one, else the
+   * frame's own depth.
+   * @param[out] depth header onto that image.
+   * @param[out] scale metres per unit of a CV_16UC1 @p depth.
+   */
+  void referenceDepth(cv::Mat& depth, double& scale) const;
 };
 
 /// How to open a dataset.
@@ -48,6 +65,11 @@ struct DatasetOptions {
   int first = 0;                 ///< skip frames before this position
   int step = 1;                  ///< take every step-th frame
   int max_frames = -1;           ///< stop after this many frames (-1: all)
+  /// Depth given to the detector: "dataset" (the folder's own: KITTI's LiDAR, the sensor's
+  /// depth of the others) or "sgbm" (StereoSGBM on the colour stereo pair; KITTI folders with
+  /// right images).
+  std::string depth = "dataset";
+  SgbmParams sgbm;  ///< matcher settings for depth = "sgbm"
 };
 
 /**
@@ -94,7 +116,10 @@ bool readCameraInfoYaml(const std::string& path, Intrinsics& K, cv::Size* size, 
 bool readSynthiaIntrinsics(const std::string& path, Intrinsics& K, double* baseline,
                            std::string& error);
 
-/// KITTI rectified intrinsics and colour baseline from calib_cam_to_cam.txt (P_rect_02/03).
+/**
+ * @brief KITTI rectified intrinsics and colour baseline: calib_cam_to_cam.txt of the raw data
+ * (P_rect_02 / P_rect_03) or calib.txt of the object / odometry format (P2 / P3).
+ */
 bool readKittiCalibration(const std::string& path, Intrinsics& K, double& baseline,
                           std::string& error);
 
@@ -138,7 +163,8 @@ void associateTumLists(const TumList& rgb, const TumList& depth, double toleranc
                        std::vector<TumPair>& pairs);
 
 /**
- * @brief KITTI disparity PNG (uint16, disparity = value / 256, 0 = none) to depth.
+ * @brief KITTI disparity PNG (uint16, disparity = value / 256, 0 = none) to depth, through the
+ * core's disparityToDepth().
  * @param[out] depth CV_32FC1 Z = fx * B / disparity (NaN where no disparity).
  */
 void kittiDisparityToDepth(const cv::Mat& disparity, double fx, double baseline, cv::Mat& depth);
