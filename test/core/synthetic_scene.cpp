@@ -33,7 +33,10 @@ void RoadScene::render(cv::Mat& bgr, cv::Mat& depth_mm, cv::Mat* depth_m) const 
             if (!dashed) return true;
             return std::fmod(F + travelled, dash_period) < dash_length;
           };
-          if (on(leftMarkerX(), left_dashed) || on(rightMarkerX(), right_dashed)) grey = paint;
+          if ((left_painted && on(leftMarkerX(), left_dashed)) ||
+              (right_painted && on(rightMarkerX(), right_dashed)))
+            grey = paint;
+          if (z < min_range) z = 0.f;
         }
       }
       bgr.at<cv::Vec3b>(v, u) = cv::Vec3b(grey, grey, grey);

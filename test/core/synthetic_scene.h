@@ -19,6 +19,8 @@ struct RoadScene {
   double lane_width = 3.6;                     // m between marker centres
   double lateral_offset = 0.0;                 // camera offset from the lane centre (m, + right)
   double marker_width = 0.15;                  // m
+  bool left_painted = true;                    // false: that line is not painted (a bare road)
+  bool right_painted = true;
   bool left_dashed = false;
   bool right_dashed = false;
   double dash_length = 3.0;                    // m
@@ -28,6 +30,7 @@ struct RoadScene {
   int paint = 230;
   int sky = 200;
   double max_range = 80.0;                     // depth beyond this is 0 (invalid)
+  double min_range = 0.0;                      // depth nearer than this is 0 (a LiDAR's gap)
 
   /// Road plane in the optical frame: normal . p + distance = 0, normal toward the camera.
   Eigen::Vector3d planeNormal() const;

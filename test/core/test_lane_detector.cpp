@@ -204,5 +204,84 @@ TEST(LaneDetector, DashedLinesWhileDriving) {
   EXPECT_LT(paper_complete, improved_complete);
 }
 
+// The road plane comes from depth: published on a road without any marking (the paper mode
+// needs both markers for it), and nothing is reported as a lane boundary there.
+TEST(LaneDetector, ImprovedModeFindsTheRoadWithoutMarkings) {
+  RoadScene scene;
+  scene.left_painted = scene.right_painted = false;
+  cv::Mat bgr, depth;
+  const Frame f = makeFrame(scene, bgr, depth);
+  LaneDetector improved(Params::improved()), paper(Params::paper());
+  Result ri, rp;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(improved.detect(f, ri), Status::kOk);
+    ASSERT_EQ(paper.detect(f, rp), Status::kOk);
+    ASSERT_TRUE(ri.plane.valid) << i;
+    EXPECT_LT(angleDeg(ri.plane.normal, scene.planeNormal()), 0.2);
+    EXPECT_NEAR(ri.plane.distance, scene.planeDistance(), 0.01);
+    EXPECT_EQ(ri.plane.fit_method, static_cast<int>(PlaneFit::kRoadSurface));
+    EXPECT_FALSE(ri.left.found);
+    EXPECT_FALSE(ri.right.found);
+    EXPECT_FALSE(rp.plane.valid);
+  }
+}
+
+// One side without paint (a kerb-less edge, worn paint): the other side is reported on its own,
+// with its confidence; with report_only_complete nothing is.
+TEST(LaneDetector, OneGoodSideIsReportedOnItsOwn) {
+  RoadScene scene;
+  scene.right_painted = false;
+  cv::Mat bgr, depth;
+  const Frame f = makeFrame(scene, bgr, depth);
+  Params complete = Params::improved();
+  complete.report_only_complete = true;
+  LaneDetector det(Params::improved()), strict(complete);
+  Result r, rs;
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_EQ(det.detect(f, r), Status::kOk);
+    ASSERT_EQ(strict.detect(f, rs), Status::kOk);
+  }
+  ASSERT_TRUE(r.left.found);
+  EXPECT_EQ(r.left.kind, BoundaryKind::kPaint);
+  EXPECT_LT(meanLateralError(r.left, scene.leftMarkerX()), 0.1);
+  EXPECT_GT(r.left.confidence, 0.5f);
+  EXPECT_LE(r.left.confidence, 1.0f);
+  EXPECT_FALSE(r.right.found);
+  EXPECT_EQ(r.right.confidence, 0.0f);
+  EXPECT_TRUE(r.plane.valid);
+  EXPECT_FALSE(rs.left.found);
+  EXPECT_FALSE(rs.right.found);
+}
+
+// No depth in the bottom rows (LiDAR and stereo gaps near the car): the markers there are
+// placed on the road plane fitted to the depth further ahead, and both sides are found.
+TEST(LaneDetector, NoDepthNearTheCar) {
+  RoadScene scene;
+  scene.left_dashed = true;
+  scene.min_range = 9.0;  // no depth nearer than 9 m: the bottom half of the road rows
+  LaneDetector improved(Params::improved());
+  int found = 0;
+  for (int i = 0; i < 8; ++i) {
+    scene.travelled = 2.0 * i;
+    cv::Mat bgr, depth;
+    const Frame f = makeFrame(scene, bgr, depth);
+    Result r;
+    ASSERT_EQ(improved.detect(f, r), Status::kOk);
+    if (i < 2) continue;
+    ASSERT_TRUE(r.plane.valid) << i;
+    EXPECT_LT(angleDeg(r.plane.normal, scene.planeNormal()), 0.2);
+    if (!(r.left.found && r.right.found)) continue;
+    ++found;
+    EXPECT_GE(fractionNear(r.left, scene.leftMarkerX()), 0.8) << i;
+    EXPECT_GE(fractionNear(r.right, scene.rightMarkerX()), 0.8) << i;
+    // points nearer than the depth reaches: from the plane
+    double nearest = 1e9;
+    for (const auto& p : r.right.points)
+      if (p.allFinite()) nearest = std::min(nearest, static_cast<double>(p.z()));
+    EXPECT_LT(nearest, scene.min_range) << i;
+  }
+  EXPECT_EQ(found, 6);
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector

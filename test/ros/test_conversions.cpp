@@ -349,7 +349,10 @@ Result makeResult() {
   r.left.points = {{-1.8f, 1.5f, 5.f}, {nan, nan, nan}, {-1.8f, 1.5f, 10.f}};
   r.left.scores = {1.5f, 0.f, 1.2f};
   r.left.num_valid_points = 2;
+  r.left.kind = BoundaryKind::kRoadEdge;
+  r.left.confidence = 0.75f;
   r.right.found = false;  // traced but not reported
+  r.right.confidence = 0.5f;
   r.right.peak_score = 0.5f;
   r.right.points = {{1.8f, 1.5f, 6.f}};
   r.right.scores = {0.5f};
@@ -359,6 +362,7 @@ Result makeResult() {
   r.plane.distance = 1.5;
   r.plane.support = {{-1.8f, 1.5f, 5.f}, {-1.8f, 1.5f, 10.f}, {1.8f, 1.5f, 6.f}};
   r.plane.rms = 0.01;
+  r.plane.range = 32.5;
   r.plane.fit_method = 1;
   return r;
 }
@@ -394,6 +398,10 @@ TEST(Conversions, LanePlaneAndMarkings) {
   EXPECT_NEAR(m.left[1].z, q.z(), 1e-5);
   EXPECT_FLOAT_EQ(m.left_angle, 2.f);
   EXPECT_FLOAT_EQ(m.right_score, 0.f);
+  EXPECT_EQ(m.left_kind, LaneMarkings::KIND_ROAD_EDGE);
+  EXPECT_FLOAT_EQ(m.left_confidence, 0.75f);
+  EXPECT_FLOAT_EQ(m.right_confidence, 0.f);  // not reported: no confidence
+  EXPECT_FLOAT_EQ(plane.valid_range, 32.5f);
 
   Result none;
   conv::fillLanePlane(none, header(), T, plane);
@@ -403,7 +411,9 @@ TEST(Conversions, LanePlaneAndMarkings) {
 
 TEST(Conversions, LanePointsLayout) {
   Result r = makeResult();
+  r.left.kind = BoundaryKind::kPaint;
   r.right.found = true;
+  r.right.kind = BoundaryKind::kRoadEdge;
   sensor_msgs::PointCloud2 cloud;
   conv::fillLanePoints(r, header(), Eigen::Isometry3d::Identity(), cloud);
   EXPECT_EQ(cloud.header.frame_id, "cam");
@@ -413,21 +423,24 @@ TEST(Conversions, LanePointsLayout) {
   EXPECT_EQ(cloud.row_step, 60u);
   EXPECT_EQ(cloud.data.size(), 60u);
   EXPECT_TRUE(cloud.is_dense);
-  ASSERT_EQ(cloud.fields.size(), 5u);
-  const char* names[] = {"x", "y", "z", "score", "side"};
-  for (size_t i = 0; i < 5; ++i) {
+  ASSERT_EQ(cloud.fields.size(), 6u);
+  const char* names[] = {"x", "y", "z", "score", "side", "kind"};
+  for (size_t i = 0; i < 6; ++i) {
     EXPECT_EQ(cloud.fields[i].name, names[i]);
     EXPECT_EQ(cloud.fields[i].offset % (i < 4 ? 4 : 1), 0u);
     EXPECT_EQ(cloud.fields[i].datatype, i < 4 ? sensor_msgs::PointField::FLOAT32 : sensor_msgs::PointField::UINT8);
   }
   sensor_msgs::PointCloud2ConstIterator<float> z(cloud, "z"), score(cloud, "score");
-  sensor_msgs::PointCloud2ConstIterator<uint8_t> side(cloud, "side");
+  sensor_msgs::PointCloud2ConstIterator<uint8_t> side(cloud, "side"), kind(cloud, "kind");
   const float zs[] = {5.f, 10.f, 6.f}, scores[] = {1.5f, 1.2f, 0.5f};
   const uint8_t sides[] = {0, 0, 1};
-  for (int i = 0; i < 3; ++i, ++z, ++score, ++side) {
+  const uint8_t kinds[] = {LaneMarkings::KIND_PAINT, LaneMarkings::KIND_PAINT,
+                           LaneMarkings::KIND_ROAD_EDGE};
+  for (int i = 0; i < 3; ++i, ++z, ++score, ++side, ++kind) {
     EXPECT_FLOAT_EQ(*z, zs[i]);
     EXPECT_FLOAT_EQ(*score, scores[i]);
     EXPECT_EQ(*side, sides[i]);
+    EXPECT_EQ(*kind, kinds[i]);
   }
   Result none;
   conv::fillLanePoints(none, header(), Eigen::Isometry3d::Identity(), cloud);
