@@ -10,7 +10,7 @@ PACKAGES=(
   libnodeletlib-dev libnodeletlib-tools libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libimage-transport-dev image-transport-tools libcv-bridge-dev python3-cv-bridge
   libmessage-filters-dev libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev python3-tf2-ros
-  libdiagnostic-updater-dev libcamera-calibration-parsers-dev libyaml-cpp-dev libvisualization-msgs-dev
+  libdiagnostic-updater-dev libcamera-calibration-parsers-dev libyaml-cpp-dev libvisualization-msgs-dev libnav-msgs-dev python3-nav-msgs
   libstereo-msgs-dev ros-stereo-image-proc libstereo-image-proc-dev ros-image-proc libimage-proc-dev
   librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-sensor-msgs
   libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev

@@ -79,7 +79,24 @@ class BoundaryClassifier {
   void classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels, bool left,
                 const Params& p, BoundaryEvidence& ev);
 
+  /**
+   * @brief Paint along a reported boundary: the share of its length with paint on it (a solid
+   * line about 1, a dashed one its dash / period) and how yellow that paint is.
+   * @param[in] in frame views.
+   * @param[in] pixels the boundary's points (input pixels), near to far.
+   * @param[in] left side of the vehicle it is on.
+   * @param[in] p thresholds (paint_contrast, paint_width_min/max).
+   * @param[out] coverage share of the measured length with paint, -1 when less than 3 m of it
+   *             could be measured.
+   * @param[out] yellowness 1 - B'/((R' + G') / 2) of the paint's colour relative to the road
+   *             beside it (white about 0, yellow 0.3 and more), -1 without painted samples.
+   */
+  void measurePaint(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels, bool left,
+                    const Params& p, float& coverage, float& yellowness);
+
  private:
+  /// Colour of an input pixel (0-255 floats).
+  void rgb(const ClassifierInput& in, int u, int v, float& R, float& G, float& B) const;
   /// Grey value (BT.601 luma) and rg chromaticity of an input pixel.
   void sample(const ClassifierInput& in, int u, int v, float& grey, float& r, float& g) const;
   /// Height above the road of the depth at an input pixel (NaN without depth).
@@ -91,6 +108,23 @@ class BoundaryClassifier {
     float peak = 0.0f;
     bool open = false;  ///< reaches the end of the profile (width unknown)
   };
+  /// What one image row across a line shows (measureRow()).
+  struct RowMeasure {
+    int v = 0, u0 = 0, W = 0;   ///< row, the line's column, profile half width (px)
+    int outer_dir = 1;          ///< image direction away from the vehicle
+    double depth = 0.0, ppm = 0.0;  ///< the road's depth at the row, pixels per metre across
+    float bg[2] = {0.f, 0.f};   ///< grey of the road beside the line: inner, outer
+    float chroma[2][2] = {{0.f, 0.f}, {0.f, 0.f}};  ///< rg chromaticity of both sides
+    float top = 0.f, contrast = 0.f, peak = 0.f;  ///< brighter side, band contrast, brightest near the line
+    const Band* paint = nullptr;   ///< nearest band of paint width (where resolved)
+    const Band* narrow = nullptr;  ///< nearest narrower band
+    const Band* wide = nullptr;    ///< nearest wider band
+  };
+  /// Profile of the row through @p c across the line (profile_, bands_); false: not measurable.
+  bool measureRow(const ClassifierInput& in, const cv::Point2f& c, bool left, const Params& p,
+                  double cos_heading, RowMeasure& m);
+  /// cos of the line's heading in the road plane (1 when too short to tell).
+  double cosHeading(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels) const;
   /// Segment profile_ (centre index @p W) into bands above @p low over the background @p base.
   void findBands(int W, float base, float low);
   /// Append the band of profile offsets [a, b] (its peak and half-peak edges).

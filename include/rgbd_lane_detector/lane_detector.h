@@ -12,6 +12,7 @@
 #include "rgbd_lane_detector/boundary_classifier.h"
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/lane_fitter.h"
+#include "rgbd_lane_detector/lane_model.h"
 #include "rgbd_lane_detector/line_template.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/road_surface.h"
@@ -43,6 +44,13 @@ class LaneDetector {
 
   /// Forget carried state (template angles, previous plane, lane model).
   void reset();
+
+  /**
+   * @brief The vehicle moved since the last frame (odometry): the lane model is moved with it
+   * before the next detect() (lane_model option; no effect otherwise).
+   * @param[in] motion pose of the vehicle frame now in the vehicle frame at the last frame.
+   */
+  void predictMotion(const Eigen::Isometry3d& motion) { lane_model_.predict(motion); }
 
   /**
    * @brief Detect the lane markers and the lane plane in one frame.
@@ -83,6 +91,10 @@ class LaneDetector {
   /// @p R off the lines already traced, appended to candidates_[side].
   void findCandidates(int side, cv::Mat& R);
   void classifyCandidates(const Frame& frame);
+  /// Paint coverage (dashed / solid) and colour of every reported painted boundary.
+  void measurePaint(const Frame& frame, Result& result);
+  /// lane_model: the Kalman filter of the lane in the vehicle frame.
+  void updateLaneModel(const Frame& frame, Result& result);
   void finish(Result& result);
 
   void resampleColour(const Frame& frame);
@@ -143,7 +155,10 @@ class LaneDetector {
   RoadSurface road_surface_;
   PlaneEstimate road_;
   BoundaryClassifier classifier_;
+  ClassifierInput classifier_input_;
   LaneFitter fitter_;
+  LaneModelFilter lane_model_;
+  std::array<BoundaryObservation, 6> observations_;
   std::array<std::vector<BoundaryCandidate>, 2> candidates_;
   std::array<int, 2> candidate_count_{{0, 0}};
   std::vector<std::pair<float*, float>> restore_;  ///< R values zeroed by the candidate search

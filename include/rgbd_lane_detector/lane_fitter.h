@@ -83,7 +83,7 @@ class LaneFitter {
   void fitMarkerPlane(const LaneFitInput& in, Result& result);
   void fitBoundaries(const LaneFitInput& in, Result& result);
   /// Index of the candidate chosen as side @p i's boundary this frame, or -1.
-  int choose(int i, const LaneFitInput& in) const;
+  int choose(int i, const LaneFitInput& in);
   bool planePlausible(const PlaneEstimate& plane) const;
   void snapToPlane(const Intrinsics& K, const PlaneEstimate& plane, MarkerTrace& m) const;
   /// Median lane width (m) between the two sides' points, NaN when they do not overlap.
@@ -97,7 +97,8 @@ class LaneFitter {
   LaneTracker tracker_;
   std::array<float, 2> kind_score_{{0.f, 0.f}};  ///< > 0 paint, < 0 road edge (decaying vote)
   std::array<float, 2> evidence_margin_{{0.f, 0.f}};  ///< classifier margin, smoothed
-  std::array<int, 2> disagree_{{0, 0}};        ///< frames the nearest boundary left the track
+  std::array<int, 2> disagree_{{0, 0}};        ///< frames a nearer line than the track was seen
+  std::array<double, 2> disagree_offset_{{0.0, 0.0}};  ///< where it was last seen
   std::vector<Eigen::Vector3f> fit_points_;
   std::vector<Eigen::Vector3f> samples_;
   std::array<std::vector<Eigen::Vector3f>, 2> evidence_;

@@ -104,6 +104,13 @@ struct Params {
   double boundary_offset_min = 0.15;  ///< a boundary is at least this far beside the camera (m)
   double boundary_offset_max = 4.5;   ///< ... and at most this far (m)
 
+  // --- Lane model for planners (named options; off in the paper mode) --------
+  bool lane_model = false;        ///< track the lane model (typed boundaries, width, offset, heading, curvature)
+  double model_gate = 0.5;        ///< m: boundaries farther than this from the model are not its
+  int model_lost_frames = 10;     ///< frames without an ego boundary before the model is reset
+  double dashed_coverage = 0.7;   ///< a paint line painted over less of its length than this is dashed
+  double yellow_threshold = 0.25; ///< paint more yellow than this (1 - B'/((R'+G')/2) against the road) is yellow
+
   /// Paper-faithful configuration (the defaults).
   static Params paper() { return Params(); }
   /// The package's recommended configuration: paper plus the improvements that measured better.

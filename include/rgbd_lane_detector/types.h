@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 namespace rgbd_lane_detector {
@@ -35,6 +36,10 @@ struct Frame {
   cv::Mat depth;                        ///< CV_16UC1 (depth_scale metres per unit) or CV_32FC1 metres
   double depth_scale = 0.001;           ///< metres per unit of a CV_16UC1 depth image
   Intrinsics intrinsics;                ///< of the colour camera; depth is registered to it
+  /// Pose of the colour optical frame in the vehicle frame (base_link, REP-103) for the lane
+  /// model; without it the road-aligned frame under the camera is used (roadAlignedFrame()).
+  bool has_vehicle_frame = false;
+  Eigen::Isometry3d vehicle_from_camera = Eigen::Isometry3d::Identity();
 };
 
 /// Outcome of LaneDetector::detect(). Anything but kOk means the frame was not processed.
@@ -80,6 +85,8 @@ struct MarkerTrace {
   bool found = false;                 ///< reported this frame (enough traced points, checks passed)
   BoundaryKind kind = BoundaryKind::kPaint;  ///< meaningful when found
   float confidence = 0.0f;            ///< in [0, 1]: how sure the detector is of this side (0: not found)
+  float paint_coverage = -1.0f;       ///< share of the boundary's seen length with paint (solid ~1, dashed ~0.25-0.5; < 0 unknown)
+  float yellowness = -1.0f;           ///< yellow vs white evidence of its paint (white ~0, yellow >= 0.3; < 0 unknown)
   float peak_score = 0.0f;            ///< R at the seed (best match)
   cv::Point2f seed{-1.f, -1.f};       ///< best match, input-image pixel coordinates
   Eigen::Vector3f seed_point{0.f, 0.f, 0.f};  ///< 3D point of the best match (NaN: no depth)
@@ -90,6 +97,66 @@ struct MarkerTrace {
   std::vector<Eigen::Vector3f> points;///< 3D centroids (optical frame, m); NaN where no depth
   int num_valid_points = 0;           ///< points with finite coordinates
 };
+
+// --- The lane model for planners (LaneModelFilter, lane_model.h) -----------------------------
+// Vehicle frame (REP-103): x forward, y left, z up.
+
+/// Position of a boundary relative to the vehicle's current lane.
+enum class BoundaryPosition : int {
+  kEgoLeft = 0,
+  kEgoRight = 1,
+  kNextLeft = 2,
+  kNextRight = 3,
+  kRoadEdgeLeft = 4,
+  kRoadEdgeRight = 5,
+};
+constexpr int kNumBoundaryPositions = 6;
+
+/// What a boundary looks like along its length.
+enum class LineKind : int { kUnknown = 0, kSolid = 1, kDashed = 2, kRoadEdge = 3 };
+
+/// Colour of a painted boundary.
+enum class LineColour : int { kUnknown = 0, kWhite = 1, kYellow = 2 };
+
+/// "ego_left", ... (static text).
+const char* boundaryPositionName(BoundaryPosition p);
+/// "unknown", "solid", "dashed", "road_edge" (static text).
+const char* lineKindName(LineKind k);
+/// "unknown", "white", "yellow" (static text).
+const char* lineColourName(LineColour c);
+
+/// One boundary of the lane model.
+struct LaneBoundaryModel {
+  bool valid = false;
+  BoundaryPosition position = BoundaryPosition::kEgoLeft;
+  LineKind kind = LineKind::kUnknown;
+  LineColour colour = LineColour::kUnknown;
+  std::array<double, 4> c{{0.0, 0.0, 0.0, 0.0}};  ///< y(x) = c0 + c1 x + c2 x^2 + c3 x^3
+  double x_min = 0.0, x_max = 0.0;  ///< range of x over which the boundary was seen (m)
+  float confidence = 0.0f;          ///< estimate of P(this boundary is right), [0, 1]
+  float lateral_std = 0.0f;         ///< standard deviation of y at x = x_min..x_max (m)
+  /// y at x.
+  double lateral(double x) const { return c[0] + x * (c[1] + x * (c[2] + x * c[3])); }
+};
+
+/// The lane model of one frame.
+struct LaneModelEstimate {
+  bool valid = false;  ///< an ego lane is known (at least one ego boundary)
+  std::array<LaneBoundaryModel, kNumBoundaryPositions> boundaries;  ///< indexed by position
+  double width = 0.0;          ///< ego lane width at x = 0 (m)
+  double offset = 0.0;         ///< the vehicle's lateral position relative to the lane centre (m, + left)
+  double heading_error = 0.0;  ///< the vehicle's heading relative to the lane (rad, + pointing left of it)
+  double curvature = 0.0;      ///< of the lane centre at x = 0 (1/m, + turning left)
+  double curvature_rate = 0.0; ///< d curvature / dx (1/m^2)
+  double x_min = 0.0, x_max = 0.0;  ///< range of the centre line (m)
+  std::array<double, 4> centre{{0.0, 0.0, 0.0, 0.0}};  ///< the centre line's cubic y(x)
+  int lane_changes = 0;        ///< lane changes since the last reset (+1 to the left, -1 to the right)
+  /// The boundary at @p p.
+  const LaneBoundaryModel& at(BoundaryPosition p) const { return boundaries[static_cast<int>(p)]; }
+};
+
+/// Index of Result::outer.
+enum OuterBoundary : int { kNextLeft = 0, kNextRight = 1, kRoadEdgeLeft = 2, kRoadEdgeRight = 3 };
 
 /// Wall-clock time of each stage of the last detect() call, milliseconds.
 struct StageTimings {
@@ -103,6 +170,7 @@ struct StageTimings {
   double tracing = 0.0;      ///< sliding-box tracing of every candidate line
   double classify = 0.0;     ///< candidate classification (paint, road edge, no boundary)
   double plane = 0.0;        ///< lane plane and boundary fit
+  double model = 0.0;        ///< paint measurements and the lane model
   double total = 0.0;
 };
 
@@ -123,7 +191,12 @@ struct Result {
   double scale = 1.0;       ///< processing resolution / input resolution
   MarkerTrace left;
   MarkerTrace right;
+  /// Boundaries beyond the ego lane's seen this frame (improved mode; found = seen), indexed by
+  /// OuterBoundary: the next lanes' far lines and the road edges. Points on the road plane.
+  std::array<MarkerTrace, 4> outer;
   PlaneEstimate plane;
+  /// The tracked lane model in the vehicle frame (improved mode, lane_model option).
+  LaneModelEstimate lane_model;
   double template_angle_left = 0.0;   ///< template angle (rad) used for this frame
   double template_angle_right = 0.0;
   StageTimings timings;

@@ -25,6 +25,8 @@ constexpr float kMinContrast = 10.0f;        // grey levels: below this a band i
 constexpr double kBandReach = 0.3;           // m: bands this close to the trace belong to it
 constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint are not applied
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
+constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
+constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
 
 float median(std::vector<float>& v) {
   if (v.empty()) return kNaN;
@@ -35,11 +37,10 @@ float median(std::vector<float>& v) {
 
 }  // namespace
 
-void BoundaryClassifier::sample(const ClassifierInput& in, int u, int v, float& grey, float& r,
-                                float& g) const {
+void BoundaryClassifier::rgb(const ClassifierInput& in, int u, int v, float& R, float& G,
+                             float& B) const {
   const cv::Mat& c = *in.colour;
   const uint8_t* px = c.ptr<uint8_t>(v) + static_cast<size_t>(u) * c.channels();
-  float R, G, B;
   switch (in.format) {
     case PixelFormat::kMono8:
       R = G = B = px[0];
@@ -52,6 +53,12 @@ void BoundaryClassifier::sample(const ClassifierInput& in, int u, int v, float& 
       B = px[0], G = px[1], R = px[2];
       break;
   }
+}
+
+void BoundaryClassifier::sample(const ClassifierInput& in, int u, int v, float& grey, float& r,
+                                float& g) const {
+  float R, G, B;
+  rgb(in, u, v, R, G, B);
   grey = 0.299f * R + 0.587f * G + 0.114f * B;
   const float sum = R + G + B + 1e-3f;
   r = R / sum;
@@ -117,6 +124,96 @@ void BoundaryClassifier::findBands(int W, float base, float low) {
   }
 }
 
+double BoundaryClassifier::cosHeading(const ClassifierInput& in,
+                                      const std::vector<cv::Point2f>& pixels) const {
+  // the line's heading in the road plane (profiles are read along image rows, i.e. across the
+  // road: a band's width is its extent there times cos(heading))
+  const Eigen::Vector3d& n = in.plane->normal;
+  const double d = in.plane->distance;
+  Eigen::Vector2d a(0, 0), b(0, 0);
+  bool have_a = false;
+  for (const auto& c : pixels) {
+    const Eigen::Vector3d ray((c.x - in.K.cx) / in.K.fx, (c.y - in.K.cy) / in.K.fy, 1.0);
+    const double den = n.dot(ray);
+    if (!(den < -1e-9)) continue;
+    const Eigen::Vector2d q = in.frame.toPlane(ray * (-d / den));
+    if (!have_a) {
+      a = q;
+      have_a = true;
+    }
+    b = q;
+  }
+  const Eigen::Vector2d t = b - a;
+  return t.norm() > 0.5 ? std::max(0.5, std::fabs(t.x()) / t.norm()) : 1.0;
+}
+
+bool BoundaryClassifier::measureRow(const ClassifierInput& in, const cv::Point2f& c, bool left,
+                                    const Params& p, double cos_heading, RowMeasure& m) {
+  const cv::Mat& colour = *in.colour;
+  const Intrinsics& K = in.K;
+  m = RowMeasure();
+  m.v = static_cast<int>(std::lround(c.y));
+  if (m.v < 0 || m.v >= colour.rows) return false;
+  const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (m.v - K.cy) / K.fy, 1.0);
+  const double den = in.plane->normal.dot(ray);
+  if (!(den < -1e-9)) return false;
+  m.depth = -in.plane->distance / den;  // of the road at this pixel (ray z = 1)
+  m.ppm = K.fx / m.depth;               // pixels per metre across the road at this row
+  if (m.ppm < kMinPixelsPerMetre) return false;
+  m.u0 = static_cast<int>(std::lround(c.x));
+  m.W = std::min(160, std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * m.ppm))));
+  if (m.u0 - m.W < 0 || m.u0 + m.W >= colour.cols) return false;
+  profile_.resize(2 * m.W + 1);
+  for (int k = -m.W; k <= m.W; ++k) {
+    float r, g;
+    sample(in, m.u0 + k, m.v, profile_[k + m.W], r, g);
+  }
+  // backgrounds of both sides, outward from the trace
+  m.outer_dir = left ? -1 : 1;  // image direction away from the vehicle
+  const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
+  const int s1 = std::max(s0 + 1, static_cast<int>(std::floor(kSideFar * m.ppm)));
+  for (int s = 0; s < 2; ++s) {
+    const int dir = s == 1 ? m.outer_dir : -m.outer_dir;
+    side_.clear();
+    double sr = 0, sg = 0;
+    for (int k = s0; k <= s1 && k <= m.W; ++k) {
+      float grey, r, g;
+      sample(in, m.u0 + dir * k, m.v, grey, r, g);
+      side_.push_back(grey);
+      sr += r;
+      sg += g;
+    }
+    if (side_.empty()) return false;
+    m.chroma[s][0] = static_cast<float>(sr / side_.size());
+    m.chroma[s][1] = static_cast<float>(sg / side_.size());
+    m.bg[s] = median(side_);
+  }
+  m.top = std::max(m.bg[0], m.bg[1]);
+  m.contrast =
+      std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(m.top, 1.0f));
+  // the brightest pixel near the trace
+  const int search = std::max(2, static_cast<int>(std::lround(kPeakSearch * m.ppm)));
+  m.peak = profile_[m.W];
+  for (int k = -search; k <= search; ++k) m.peak = std::max(m.peak, profile_[k + m.W]);
+  // bright bands near the trace, by width where the pixels resolve them: the painted one
+  // nearest the trace, else a narrow one (a rail head), else a wide one
+  if (m.ppm >= kWidthPixelsPerMetre) {
+    findBands(m.W, m.top, m.top + m.contrast);
+    const double reach = kBandReach * m.ppm;
+    for (const Band& b : bands_) {
+      const double centre = 0.5 * (b.lo + b.hi);
+      if (b.open || std::fabs(centre) > reach) continue;
+      const double w = (b.hi - b.lo) / m.ppm * cos_heading;
+      const Band** slot = w < p.paint_width_min   ? &m.narrow
+                          : w > p.paint_width_max ? &m.wide
+                                                  : &m.paint;
+      if (*slot == nullptr || std::fabs(centre) < std::fabs(0.5 * ((*slot)->lo + (*slot)->hi)))
+        *slot = &b;
+    }
+  }
+  return true;
+}
+
 void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                   bool left, const Params& p, BoundaryEvidence& ev) {
   ev = BoundaryEvidence();
@@ -130,135 +227,50 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     ev.reason = "too short";
     return;
   }
-  const cv::Mat& colour = *in.colour;
   const Intrinsics& K = in.K;
   const Eigen::Vector3d& n = in.plane->normal;
   const double d = in.plane->distance;
-
-  // the line's heading in the road plane (its profile is read along image rows, i.e. across
-  // the road: a band's width is its extent there times cos(heading))
-  double cos_heading = 1.0;
-  {
-    Eigen::Vector2d a(0, 0), b(0, 0);
-    bool have_a = false;
-    for (const auto& c : pixels) {
-      const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (c.y - K.cy) / K.fy, 1.0);
-      const double den = n.dot(ray);
-      if (!(den < -1e-9)) continue;
-      const Eigen::Vector2d q = in.frame.toPlane(ray * (-d / den));
-      if (!have_a) {
-        a = q;
-        have_a = true;
-      }
-      b = q;
-    }
-    const Eigen::Vector2d t = b - a;
-    if (t.norm() > 0.5) cos_heading = std::max(0.5, std::fabs(t.x()) / t.norm());
-  }
+  const double cos_heading = cosHeading(in, pixels);
 
   int paint_rows = 0, narrow_rows = 0, wide_rows = 0;
-  const int outer_dir = left ? -1 : 1;  // image direction away from the vehicle
+  RowMeasure m;
   for (const auto& c : pixels) {
-    const int v = static_cast<int>(std::lround(c.y));
-    if (v < 0 || v >= colour.rows) continue;
-    const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-    const double den = n.dot(ray);
-    if (!(den < -1e-9)) continue;
-    const double Z = -d / den;  // depth of the road at this pixel (ray z = 1)
-    const double ppm = K.fx / Z;  // pixels per metre across the road at this row
-    if (ppm < kMinPixelsPerMetre) continue;
-    const int u0 = static_cast<int>(std::lround(c.x));
-    const int W = std::min(160, std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * ppm))));
-    if (u0 - W < 0 || u0 + W >= colour.cols) continue;
-    profile_.resize(2 * W + 1);
-    for (int k = -W; k <= W; ++k) {
-      float r, g;
-      sample(in, u0 + k, v, profile_[k + W], r, g);
-    }
-    // backgrounds of both sides, outward from the trace
-    const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * ppm)));
-    const int s1 = std::max(s0 + 1, static_cast<int>(std::floor(kSideFar * ppm)));
-    float bg[2];  // 0: inner, 1: outer
-    float chroma[2][2];
-    bool ok = true;
-    for (int s = 0; s < 2; ++s) {
-      const int dir = s == 1 ? outer_dir : -outer_dir;
-      side_.clear();
-      double sr = 0, sg = 0;
-      for (int k = s0; k <= s1 && k <= W; ++k) {
-        float grey, r, g;
-        sample(in, u0 + dir * k, v, grey, r, g);
-        side_.push_back(grey);
-        sr += r;
-        sg += g;
-      }
-      if (side_.empty()) {
-        ok = false;
-        break;
-      }
-      chroma[s][0] = static_cast<float>(sr / side_.size());
-      chroma[s][1] = static_cast<float>(sg / side_.size());
-      bg[s] = median(side_);
-    }
-    if (!ok) continue;
+    if (!measureRow(in, c, left, p, cos_heading, m)) continue;
     ++ev.rows;
-    const float top = std::max(bg[0], bg[1]);
-    const float contrast = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(top, 1.0f));
-    // the brightest pixel near the trace: its contrast to the brighter side
-    const int search = std::max(2, static_cast<int>(std::lround(kPeakSearch * ppm)));
-    float peak = profile_[W];
-    for (int k = -search; k <= search; ++k) peak = std::max(peak, profile_[k + W]);
-    ridge_.push_back(peak - top);
-    step_.push_back(bg[1] - bg[0]);
+    ridge_.push_back(m.peak - m.top);
+    step_.push_back(m.bg[1] - m.bg[0]);
     // colour change across the line, unless it is the blue cast of a shadow: the darker side
     // much darker and bluer (sky-lit) than the sunlit one
     {
-      const int dark = bg[0] < bg[1] ? 0 : 1;
-      const float dr = chroma[1][0] - chroma[0][0], dg = chroma[1][1] - chroma[0][1];
-      const float blue_dark = 1.f - chroma[dark][0] - chroma[dark][1];
-      const float blue_light = 1.f - chroma[1 - dark][0] - chroma[1 - dark][1];
+      const int dark = m.bg[0] < m.bg[1] ? 0 : 1;
+      const float dr = m.chroma[1][0] - m.chroma[0][0], dg = m.chroma[1][1] - m.chroma[0][1];
+      const float blue_dark = 1.f - m.chroma[dark][0] - m.chroma[dark][1];
+      const float blue_light = 1.f - m.chroma[1 - dark][0] - m.chroma[1 - dark][1];
       const float dist = std::hypot(dr, dg);
-      const bool shadow = bg[1 - dark] >= kShadowRatio * std::max(bg[dark], 1.0f) &&
+      const bool shadow = m.bg[1 - dark] >= kShadowRatio * std::max(m.bg[dark], 1.0f) &&
                           blue_dark - blue_light > 0.5f * dist;
       chroma_.push_back(shadow ? 0.0f : dist);
     }
-    if (peak - top >= contrast) ++ev.ridge_rows;
-    // bright bands near the trace, by width where the pixels resolve them: the painted one
-    // nearest the trace, else a narrow one (a rail head), else a wide one
-    if (ppm >= kWidthPixelsPerMetre) {
-      findBands(W, top, top + contrast);
-      const double reach = kBandReach * ppm;
-      const Band* paint = nullptr;
-      const Band* narrow = nullptr;
-      const Band* wide = nullptr;
-      for (const Band& b : bands_) {
-        const double centre = 0.5 * (b.lo + b.hi);
-        if (b.open || std::fabs(centre) > reach) continue;
-        const double w = (b.hi - b.lo) / ppm * cos_heading;
-        const Band** slot = w < p.paint_width_min ? &narrow : w > p.paint_width_max ? &wide : &paint;
-        if (*slot == nullptr || std::fabs(centre) < std::fabs(0.5 * ((*slot)->lo + (*slot)->hi)))
-          *slot = &b;
-      }
-      const Band* chosen = paint ? paint : narrow ? narrow : wide;
-      if (chosen) {
-        width_.push_back(static_cast<float>((chosen->hi - chosen->lo) / ppm * cos_heading));
-        if (paint) {
-          ++paint_rows;
-          shift_.push_back(static_cast<float>(0.5 * (paint->lo + paint->hi) / ppm));
-        } else if (narrow) {
-          ++narrow_rows;
-        } else {
-          ++wide_rows;
-        }
+    if (m.peak - m.top >= m.contrast) ++ev.ridge_rows;
+    const Band* chosen = m.paint ? m.paint : m.narrow ? m.narrow : m.wide;
+    if (chosen) {
+      width_.push_back(static_cast<float>((chosen->hi - chosen->lo) / m.ppm * cos_heading));
+      if (m.paint) {
+        ++paint_rows;
+        shift_.push_back(static_cast<float>(0.5 * (m.paint->lo + m.paint->hi) / m.ppm));
+      } else if (m.narrow) {
+        ++narrow_rows;
+      } else {
+        ++wide_rows;
       }
     }
     // heights of the line and of the surfaces beside it (where depth exists)
-    const float hl = heightAt(in, u0, v);
+    const float hl = heightAt(in, m.u0, m.v);
     if (std::isfinite(hl)) line_h_.push_back(hl);
     for (double off : {kHeightNear, kHeightFar}) {
-      const int k = static_cast<int>(std::lround(off * ppm));
-      const float hi = heightAt(in, u0 - outer_dir * k, v);
-      const float ho = heightAt(in, u0 + outer_dir * k, v);
+      const int k = static_cast<int>(std::lround(off * m.ppm));
+      const float hi = heightAt(in, m.u0 - m.outer_dir * k, m.v);
+      const float ho = heightAt(in, m.u0 + m.outer_dir * k, m.v);
       if (std::isfinite(hi)) inner_h_.push_back(hi);
       if (std::isfinite(ho)) outer_h_.push_back(ho);
     }
@@ -356,6 +368,60 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     return;
   }
   ev.reason = "no band, no step";
+}
+
+void BoundaryClassifier::measurePaint(const ClassifierInput& in,
+                                      const std::vector<cv::Point2f>& pixels, bool left,
+                                      const Params& p, float& coverage, float& yellowness) {
+  coverage = yellowness = -1.0f;
+  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid || pixels.size() < 2) return;
+  const double cos_heading = cosHeading(in, pixels);
+  // each point stands for the stretch of road half-way to its neighbours
+  auto forward = [&](const cv::Point2f& c) {
+    const Eigen::Vector3d ray((c.x - in.K.cx) / in.K.fx, (c.y - in.K.cy) / in.K.fy, 1.0);
+    const double den = in.plane->normal.dot(ray);
+    return den < -1e-9 ? in.frame.toPlane(ray * (-in.plane->distance / den)).x() : NAN;
+  };
+  double covered = 0.0, total = 0.0;
+  side_.clear();  // yellowness samples
+  RowMeasure m;
+  const size_t n = pixels.size();
+  for (size_t k = 0; k < n; ++k) {
+    const double fa = forward(pixels[k > 0 ? k - 1 : k]), fb = forward(pixels[k + 1 < n ? k + 1 : k]);
+    const double weight = std::isfinite(fa) && std::isfinite(fb) ? 0.5 * std::fabs(fb - fa) : 0.0;
+    if (!(weight > 0.0) || !measureRow(in, pixels[k], left, p, cos_heading, m)) continue;
+    total += weight;
+    // paint here: a band of paint width on the line, or, where the pixels cannot resolve its
+    // width, a bright enough peak
+    const Band* band = m.paint;
+    if (band && std::fabs(0.5 * (band->lo + band->hi)) > kCoverageReach * m.ppm) band = nullptr;
+    const bool paint = band || (m.ppm < kWidthPixelsPerMetre && m.peak - m.top >= m.contrast);
+    if (!paint) continue;
+    covered += weight;
+    if (!band) continue;
+    // colour of the paint against the road beside it (the illumination cancels): yellow paint
+    // reflects little blue
+    double pr = 0, pg = 0, pb = 0, ar = 0, ag = 0, ab = 0;
+    int np = 0, na = 0;
+    for (int k2 = static_cast<int>(std::ceil(band->lo)); k2 <= static_cast<int>(std::floor(band->hi)); ++k2) {
+      float R, G, B;
+      rgb(in, m.u0 + k2, m.v, R, G, B);
+      pr += R, pg += G, pb += B, ++np;
+    }
+    const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
+    const int s1 = std::max(s0 + 1, static_cast<int>(std::floor(kSideFar * m.ppm)));
+    for (int dir : {-1, 1})
+      for (int k2 = s0; k2 <= s1 && k2 <= m.W; ++k2) {
+        float R, G, B;
+        rgb(in, m.u0 + dir * k2, m.v, R, G, B);
+        ar += R, ag += G, ab += B, ++na;
+      }
+    if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;
+    const double r = (pr / np) / (ar / na), g = (pg / np) / (ag / na), b = (pb / np) / (ab / na);
+    side_.push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
+  }
+  if (total >= kMinCoverageLength) coverage = static_cast<float>(covered / total);
+  if (side_.size() >= 3) yellowness = std::max(0.0f, median(side_));
 }
 
 }  // namespace rgbd_lane_detector

@@ -82,6 +82,15 @@ void LaneDetector::setParams(const Params& params) {
   const bool new_templates = !sameTemplates(p, params_) || left_template_.size == 0;
   params_ = p;
   fitter_.setParams(p);
+  LaneModelSettings ms;
+  ms.gate = p.model_gate;
+  ms.lost_frames = p.model_lost_frames;
+  ms.width_min = p.lane_width_min;
+  ms.width_max = p.lane_width_max > 0.0 ? p.lane_width_max : ms.width_max;
+  ms.x_max = p.max_depth;
+  ms.dashed_coverage = p.dashed_coverage;
+  ms.yellowness = p.yellow_threshold;
+  lane_model_.setSettings(ms);
   if (new_templates) reset();
 }
 
@@ -89,6 +98,7 @@ void LaneDetector::reset() {
   next_left_angle_ = defaultLeftAngle(params_.template_angle_deg);
   next_right_angle_ = defaultRightAngle(params_.template_angle_deg);
   fitter_.reset();
+  lane_model_.reset();
   road_.valid = false;
   templates_dirty_ = true;
 }
@@ -220,6 +230,9 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   fit.counts = candidate_count_;
   fitter_.fit(fit, result);
   timings_.plane = msSince(t);
+  measurePaint(frame, result);  // 10. dashed or solid, white or yellow
+  updateLaneModel(frame, result);  // 11. the lane model for planners
+  timings_.model = msSince(t);
   finish(result);
   timings_.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   result.timings = timings_;
@@ -414,7 +427,7 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
       }
     return;
   }
-  ClassifierInput in;
+  ClassifierInput& in = classifier_input_;
   in.colour = &frame.colour;
   in.format = frame.format;
   in.K = frame.intrinsics;
@@ -428,6 +441,55 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
       BoundaryCandidate& c = candidates_[side][k];
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
     }
+}
+
+void LaneDetector::measurePaint(const Frame& frame, Result& result) {
+  MarkerTrace* traces[6] = {&result.left,           &result.right,
+                            &result.outer[kNextLeft], &result.outer[kNextRight],
+                            &result.outer[kRoadEdgeLeft], &result.outer[kRoadEdgeRight]};
+  for (MarkerTrace* m : traces) m->paint_coverage = m->yellowness = -1.0f;
+  if (!params_.classify_boundaries || !result.plane.valid) return;
+  ClassifierInput& in = classifier_input_;
+  in.colour = &frame.colour;
+  in.format = frame.format;
+  in.K = frame.intrinsics;
+  in.points = &points_;
+  in.plane = &result.plane;
+  in.frame = PlaneFrame::fromPlane(result.plane);
+  for (int k = 0; k < 6; ++k) {
+    MarkerTrace& m = *traces[k];
+    if (!m.found || m.kind != BoundaryKind::kPaint) continue;
+    const bool left = k == 0 || k == 2 || k == 4;
+    classifier_.measurePaint(in, m.pixels, left, params_, m.paint_coverage, m.yellowness);
+  }
+}
+
+void LaneDetector::updateLaneModel(const Frame& frame, Result& result) {
+  result.lane_model.valid = false;
+  if (!params_.lane_model) return;
+  const MarkerTrace* traces[6] = {&result.left,           &result.right,
+                                  &result.outer[kNextLeft], &result.outer[kNextRight],
+                                  &result.outer[kRoadEdgeLeft], &result.outer[kRoadEdgeRight]};
+  int count = 0;
+  for (int k = 0; k < 6; ++k) {
+    const MarkerTrace& m = *traces[k];
+    if (!m.found) continue;
+    BoundaryObservation& o = observations_[count++];
+    o.left = k % 2 == 0;
+    o.ego = k < 2;
+    o.kind = m.kind;
+    o.points = &m.points;
+    o.confidence = m.confidence;
+    o.paint_coverage = m.paint_coverage;
+    o.yellowness = m.yellowness;
+  }
+  if (!frame.has_vehicle_frame && !result.plane.valid) {
+    lane_model_.update(Eigen::Isometry3d::Identity(), observations_.data(), 0, result.lane_model);
+    return;
+  }
+  const Eigen::Isometry3d T =
+      frame.has_vehicle_frame ? frame.vehicle_from_camera : roadAlignedFrame(result.plane);
+  lane_model_.update(T, observations_.data(), count, result.lane_model);
 }
 
 void LaneDetector::finish(Result& result) {

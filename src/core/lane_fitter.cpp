@@ -19,6 +19,8 @@ constexpr float kKindMemory = 0.8f;      // decay per frame of a side's kind vot
 constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence of 1 - 1/e
 constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
 constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
+constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
+constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
 
 // Robust straight line lateral = a + b forward through road points: least squares, then twice
 // on the points within 0.3 m of the current line.
@@ -57,6 +59,14 @@ void LaneFitter::reset() {
 void LaneFitter::fit(const LaneFitInput& in, Result& result) {
   result.plane.valid = false;
   result.plane.support.clear();
+  for (MarkerTrace& m : result.outer) {
+    m.found = false;
+    m.confidence = 0.0f;
+    m.pixels.clear();
+    m.points.clear();
+    m.scores.clear();
+    m.num_valid_points = 0;
+  }
   if (params_.track_lanes) {
     fitBoundaries(in, result);
   } else {
@@ -192,7 +202,7 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
              std::fabs(c.heading) <= kMaxHeading;
 }
 
-int LaneFitter::choose(int i, const LaneFitInput& in) const {
+int LaneFitter::choose(int i, const LaneFitInput& in) {
   const std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
   int nearest = -1, consistent = -1;
   for (int k = 0; k < in.counts[i]; ++k) {
@@ -207,6 +217,25 @@ int LaneFitter::choose(int i, const LaneFitInput& in) const {
     if (2 * inliers < static_cast<int>(c.road.size())) continue;
     if (consistent < 0 || std::fabs(c.offset) < std::fabs(cands[consistent].offset))
       consistent = k;
+  }
+  // A line nearer the vehicle than the tracked one, seen in the same place kSwitchFrames frames
+  // in a row, becomes this side's boundary (a lane change: the crossed line is the new nearest
+  // one; or the track had followed the next lane's line). One frame of it (an arrow, a patch of
+  // paint) does not.
+  if (consistent >= 0 && nearest >= 0 &&
+      std::fabs(cands[nearest].offset) < std::fabs(cands[consistent].offset) - params_.track_gate) {
+    const double off = cands[nearest].offset;
+    disagree_[i] = disagree_[i] > 0 && std::fabs(off - disagree_offset_[i]) <= params_.track_gate
+                       ? disagree_[i] + 1
+                       : 1;
+    disagree_offset_[i] = off;
+    if (disagree_[i] >= kSwitchFrames) {
+      disagree_[i] = 0;
+      tracker_.resetSide(i);
+      return nearest;
+    }
+  } else {
+    disagree_[i] = 0;
   }
   return consistent >= 0 ? consistent : nearest;
 }
@@ -333,6 +362,44 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     const double support = 1.0 - std::exp(-tracker_.frames(i) / kSupportFrames);
     const double fresh = std::pow(kAgeDecay, tracker_.age(i));
     m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
+  }
+
+  // Lines beyond the ego boundaries: the next lanes' and the road edges, as seen this frame (the
+  // nearest of each).
+  double outer_offset[4] = {0.0, 0.0, 0.0, 0.0};
+  for (int i = 0; i < 2; ++i) {
+    if (chosen[i] < 0) continue;
+    const std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
+    const double ego = std::fabs(cands[chosen[i]].offset);
+    for (int k = 0; k < in.counts[i]; ++k) {
+      const BoundaryCandidate& c = cands[k];
+      if (k == chosen[i] || !c.usable || std::fabs(c.offset) < ego + kNextLaneMin) continue;
+      const bool edge = c.evidence.kind == BoundaryKind::kRoadEdge;
+      const int slot = edge ? (i == 0 ? kRoadEdgeLeft : kRoadEdgeRight)
+                            : (i == 0 ? kNextLeft : kNextRight);
+      MarkerTrace& m = result.outer[slot];
+      if (m.found && std::fabs(outer_offset[slot]) <= std::fabs(c.offset)) continue;
+      outer_offset[slot] = c.offset;
+      m.pixels.clear();
+      m.points.clear();
+      m.scores.clear();
+      for (const auto& q : c.road) {
+        const Eigen::Vector3f P = frame.toCamera(q.x(), q.y()).cast<float>();
+        m.points.push_back(P);
+        m.pixels.emplace_back(static_cast<float>(in.K.fx * P.x() / P.z() + in.K.cx),
+                              static_cast<float>(in.K.fy * P.y() / P.z() + in.K.cy));
+        m.scores.push_back(c.trace.peak_score);
+      }
+      m.num_valid_points = static_cast<int>(m.points.size());
+      m.found = true;
+      m.kind = c.evidence.kind;
+      m.confidence = 0.5f * c.evidence.margin;  // one frame's evidence
+      m.peak_score = c.trace.peak_score;
+      m.seed = c.trace.seed;
+      m.seed_point = c.trace.seed_point;
+      m.angle = c.trace.angle;
+      m.angle_valid = c.trace.angle_valid;
+    }
   }
 
   // Two sides closer or farther apart than any lane: the less confident one is not reported.

@@ -38,6 +38,7 @@ Params Params::improved() {
   p.acquisition_angle_deg = 70.0;
   p.adapt_per_side = true;
   p.classify_boundaries = true;
+  p.lane_model = true;
   return p;
 }
 
@@ -118,6 +119,10 @@ Params sanitize(const Params& in) {
   p.boundary_offset_min = clampFinite(p.boundary_offset_min, 0.0, 10.0, d.boundary_offset_min);
   p.boundary_offset_max =
       clampFinite(p.boundary_offset_max, p.boundary_offset_min, 20.0, d.boundary_offset_max);
+  p.model_gate = clampFinite(p.model_gate, 0.05, 5.0, d.model_gate);
+  p.model_lost_frames = std::min(std::max(p.model_lost_frames, 0), 1000);
+  p.dashed_coverage = clampFinite(p.dashed_coverage, 0.0, 1.0, d.dashed_coverage);
+  p.yellow_threshold = clampFinite(p.yellow_threshold, 0.0, 1.0, d.yellow_threshold);
   return p;
 }
 

@@ -125,6 +125,11 @@ const std::vector<std::pair<std::string, Field>>& fields() {
       RLD_FIELD(member, edge_chroma),
       RLD_FIELD(member, boundary_offset_min),
       RLD_FIELD(member, boundary_offset_max),
+      RLD_FIELD(boolean, lane_model),
+      RLD_FIELD(member, model_gate),
+      RLD_FIELD(member, model_lost_frames),
+      RLD_FIELD(member, dashed_coverage),
+      RLD_FIELD(member, yellow_threshold),
   };
   return table;
 }

@@ -449,6 +449,92 @@ void fillLaneMarkers(const Result& result, const std_msgs::Header& header,
   }
 }
 
+void fillLaneModel(const LaneModelEstimate& model, const std_msgs::Header& header, LaneModel& msg,
+                   double step) {
+  msg.header = header;
+  msg.valid = model.valid;
+  msg.boundaries.clear();
+  msg.centre_line.header = header;
+  msg.centre_line.poses.clear();
+  msg.lane_changes = model.lane_changes;
+  if (!model.valid) {
+    msg.width = msg.lateral_offset = msg.heading_error = msg.curvature = msg.curvature_rate = 0.0;
+    return;
+  }
+  msg.width = model.width;
+  msg.lateral_offset = model.offset;
+  msg.heading_error = model.heading_error;
+  msg.curvature = model.curvature;
+  msg.curvature_rate = model.curvature_rate;
+  for (const LaneBoundaryModel& b : model.boundaries) {
+    if (!b.valid) continue;
+    LaneBoundary m;
+    m.position = static_cast<uint8_t>(b.position);
+    m.kind = static_cast<uint8_t>(b.kind);
+    m.colour = static_cast<uint8_t>(b.colour);
+    m.c0 = b.c[0];
+    m.c1 = b.c[1];
+    m.c2 = b.c[2];
+    m.c3 = b.c[3];
+    m.x_min = b.x_min;
+    m.x_max = b.x_max;
+    m.confidence = b.confidence;
+    m.lateral_std = b.lateral_std;
+    msg.boundaries.push_back(m);
+  }
+  // the centre line as a path: poses along it, oriented along its tangent
+  const auto& c = model.centre;
+  for (double x = model.x_min; x <= model.x_max + 1e-9 && step > 0.0; x += step) {
+    geometry_msgs::PoseStamped pose;
+    pose.header = header;
+    pose.pose.position.x = x;
+    pose.pose.position.y = c[0] + x * (c[1] + x * (c[2] + x * c[3]));
+    const double yaw = std::atan(c[1] + x * (2.0 * c[2] + 3.0 * x * c[3]));
+    pose.pose.orientation.z = std::sin(0.5 * yaw);
+    pose.pose.orientation.w = std::cos(0.5 * yaw);
+    msg.centre_line.poses.push_back(pose);
+  }
+}
+
+void appendLaneModelMarkers(const LaneModelEstimate& model, const std_msgs::Header& header,
+                            visualization_msgs::MarkerArray& msg, double step) {
+  for (const LaneBoundaryModel& b : model.boundaries) {
+    visualization_msgs::Marker line =
+        baseMarker(header, kModelNs, static_cast<int>(b.position));
+    if (model.valid && b.valid && step > 0.0) {
+      line.action = visualization_msgs::Marker::ADD;
+      line.type = visualization_msgs::Marker::LINE_STRIP;
+      line.scale.x = 0.12;
+      const bool yellow = b.colour == LineColour::kYellow;
+      switch (b.kind) {
+        case LineKind::kSolid:
+          line.color = yellow ? rgba(1.f, 0.85f, 0.f, 1.f) : rgba(1.f, 1.f, 1.f, 1.f);
+          break;
+        case LineKind::kDashed:
+          line.color = yellow ? rgba(1.f, 0.9f, 0.5f, 0.8f) : rgba(0.75f, 0.75f, 0.75f, 0.8f);
+          break;
+        case LineKind::kRoadEdge:
+          line.color = rgba(1.f, 0.15f, 0.25f, 1.f);
+          break;
+        default:
+          line.color = rgba(0.5f, 0.5f, 0.5f, 0.8f);
+          break;
+      }
+      for (double x = b.x_min; x <= b.x_max + 1e-9; x += step) {
+        geometry_msgs::Point p;
+        p.x = x;
+        p.y = b.lateral(x);
+        line.points.push_back(p);
+      }
+      if (line.points.size() < 2) {
+        line.action = visualization_msgs::Marker::DELETE;
+        line.points.clear();
+      }
+    }
+    msg.markers.push_back(std::move(line));
+  }
+}
+
 void floatMapToImage(const cv::Mat& map, const std_msgs::Header& header, sensor_msgs::Image& msg) {
   cv::Mat out = prepareImage(map.rows, map.cols, CV_32FC1, enc::TYPE_32FC1, header, msg);
   if (map.type() == CV_32FC1)

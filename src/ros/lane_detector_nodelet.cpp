@@ -17,8 +17,10 @@
 #include <boost/make_shared.hpp>
 
 #include <rgbd_lane_detector/LaneMarkings.h>
+#include <rgbd_lane_detector/LaneModel.h>
 #include <rgbd_lane_detector/LanePlane.h>
 
+#include "rgbd_lane_detector/lane_model.h"
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector/ros/conversions.h"
 
@@ -67,12 +69,14 @@ void LaneDetectorNodelet::onInit() {
         boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
   }
 
-  // tf: only when an output frame or an up frame is requested.
+  // tf: only when an output frame, an up frame or the lane model's vehicle frame is requested.
   pnh.param<std::string>("target_frame", target_frame_, "");
   pnh.param<std::string>("up_frame", up_frame_, "");
+  pnh.param<std::string>("lane_model_frame", lane_model_frame_, "base_link");
+  pnh.param<std::string>("odom_frame", odom_frame_, "");
   pnh.param("tf_timeout", tf_timeout_, 0.05);
   tf_timeout_ = std::max(0.0, tf_timeout_);
-  if (!target_frame_.empty() || !up_frame_.empty()) {
+  if (!target_frame_.empty() || !up_frame_.empty() || !lane_model_frame_.empty()) {
     tf_buffer_.reset(new tf2_ros::Buffer);
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_));
   }
@@ -117,6 +121,7 @@ void LaneDetectorNodelet::onInit() {
   pub_points_ = nh.advertise<sensor_msgs::PointCloud2>("lane_points", 5, connect_cb, connect_cb);
   pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("lane_visualization", 5, connect_cb,
                                                                connect_cb);
+  pub_model_ = nh.advertise<LaneModel>("lane_model", 5, connect_cb, connect_cb);
   pub_left_ = it_->advertise("response/left", 1, image_connect_cb, image_connect_cb);
   pub_right_ = it_->advertise("response/right", 1, image_connect_cb, image_connect_cb);
   pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
@@ -200,6 +205,7 @@ LaneDetectorNodelet::Wanted LaneDetectorNodelet::wantedOutputs() const {
   w.markings = pub_markings_.getNumSubscribers() > 0;
   w.points = pub_points_.getNumSubscribers() > 0;
   w.markers = pub_markers_.getNumSubscribers() > 0;
+  w.model = pub_model_.getNumSubscribers() > 0;
   w.left = pub_left_.getNumSubscribers() > 0;
   w.right = pub_right_.getNumSubscribers() > 0;
   w.geometric = pub_geometric_.getNumSubscribers() > 0;
@@ -242,6 +248,40 @@ bool LaneDetectorNodelet::updateDetectorParams(const std::string& optical_frame)
     frame_params_ = detector_.params();
   }
   return true;
+}
+
+void LaneDetectorNodelet::setVehicleFrame(const std_msgs::Header& header, Frame& frame) {
+  frame.has_vehicle_frame = false;
+  vehicle_frame_found_ = false;
+  model_frame_id_ = header.frame_id + "_road";
+  if (!frame_params_.lane_model) return;
+  if (!lane_model_frame_.empty() && tf_buffer_) {
+    try {
+      frame.vehicle_from_camera = tf2::transformToEigen(tf_buffer_->lookupTransform(
+          lane_model_frame_, header.frame_id, header.stamp, ros::Duration(tf_timeout_)));
+      frame.has_vehicle_frame = true;
+      vehicle_frame_found_ = true;
+      model_frame_id_ = lane_model_frame_;
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN_THROTTLE(kThrottle,
+                            "lane_model in the road frame '%s' under the camera: no transform "
+                            "from '%s' to lane_model_frame '%s': %s",
+                            model_frame_id_.c_str(), header.frame_id.c_str(),
+                            lane_model_frame_.c_str(), e.what());
+    }
+  }
+  // the vehicle's motion since the last frame, from odometry, moves the model
+  if (vehicle_frame_found_ && !odom_frame_.empty() && !last_model_stamp_.isZero() &&
+      header.stamp > last_model_stamp_) {
+    try {
+      detector_.predictMotion(tf2::transformToEigen(tf_buffer_->lookupTransform(
+          lane_model_frame_, last_model_stamp_, lane_model_frame_, header.stamp, odom_frame_,
+          ros::Duration(tf_timeout_))));
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN_THROTTLE(kThrottle, "lane_model without motion prediction: %s", e.what());
+    }
+  }
+  last_model_stamp_ = header.stamp;
 }
 
 bool LaneDetectorNodelet::outputTransform(const std_msgs::Header& header, Eigen::Isometry3d& T,
@@ -294,8 +334,10 @@ const char* LaneDetectorNodelet::processFrame(const Image& colour, const Image& 
         1.0, "Input stamps went back %.3f s (rosbag loop?): resetting the detector state",
         (last_stamp_ - image_header.stamp).toSec());
     detector_.reset();
+    last_model_stamp_ = ros::Time();
   }
   last_stamp_ = image_header.stamp;
+  setVehicleFrame(image_header, frame);
 
   Status status;
   try {
@@ -330,10 +372,26 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
     conv::fillLanePoints(result_, out_header, T, *msg);
     pub_points_.publish(msg);
   }
+  std_msgs::Header model_header = image_header;
+  model_header.frame_id = model_frame_id_;
+  if (wanted.model) {
+    auto msg = boost::make_shared<LaneModel>();
+    conv::fillLaneModel(result_.lane_model, model_header, *msg);
+    pub_model_.publish(msg);
+  }
   if (wanted.markers) {
     auto msg = boost::make_shared<visualization_msgs::MarkerArray>();
     conv::fillLaneMarkers(result_, out_header, T, *msg);
+    conv::appendLaneModelMarkers(result_.lane_model, model_header, *msg);
     pub_markers_.publish(msg);
+  }
+  if ((wanted.model || wanted.markers) && !vehicle_frame_found_ && result_.plane.valid) {
+    // the road-aligned fallback frame, so that rviz and users can place the model
+    geometry_msgs::TransformStamped tf = tf2::eigenToTransform(roadAlignedFrame(result_.plane).inverse());
+    tf.header = image_header;
+    tf.child_frame_id = model_frame_id_;
+    if (!road_frame_broadcaster_) road_frame_broadcaster_.reset(new tf2_ros::TransformBroadcaster);
+    road_frame_broadcaster_->sendTransform(tf);
   }
   // Images stay in the camera's optical frame (they are pixels of that camera), at the
   // processing resolution for the response maps.

@@ -18,6 +18,7 @@
 
 #include <rgbd_lane_detector/LaneDetectorConfig.h>
 #include <rgbd_lane_detector/LaneMarkings.h>
+#include <rgbd_lane_detector/LaneModel.h>
 #include <rgbd_lane_detector/LanePlane.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -182,6 +183,27 @@ constexpr int kRightId = 1;
  */
 void fillLaneMarkers(const Result& result, const std_msgs::Header& header,
                      const Eigen::Isometry3d& T, visualization_msgs::MarkerArray& msg);
+
+/**
+ * @brief lane_model: the lane model (in the vehicle frame) as a message; the centre line is
+ * sampled every @p step metres over its range.
+ * @param[in] model the detector's lane model.
+ * @param[in] header stamp of the input image, frame_id of the vehicle frame.
+ * @param[out] msg filled; boundaries only for the positions known this frame.
+ */
+void fillLaneModel(const LaneModelEstimate& model, const std_msgs::Header& header, LaneModel& msg,
+                   double step = 1.0);
+
+/// Marker namespace of the lane model's boundaries in lane_visualization (ids = positions).
+constexpr const char* kModelNs = "lane_model";
+
+/**
+ * @brief Append the lane model's boundaries to lane_visualization: LINE_STRIPs in the vehicle
+ * frame (ns lane_model, id = LaneBoundary position), coloured by kind (solid white / yellow,
+ * dashed light grey / light yellow, road edge red, unknown grey); unknown positions as DELETE.
+ */
+void appendLaneModelMarkers(const LaneModelEstimate& model, const std_msgs::Header& header,
+                            visualization_msgs::MarkerArray& msg, double step = 1.0);
 
 /**
  * @brief Copy a single-channel float map (the response maps) into an image message (32FC1).

@@ -25,6 +25,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <Eigen/Geometry>
 #include <boost/thread/recursive_mutex.hpp>
@@ -52,10 +53,11 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
 
   /// Which outputs have subscribers this frame (lazy publishing).
   struct Wanted {
-    bool plane = false, markings = false, points = false, markers = false;
+    bool plane = false, markings = false, points = false, markers = false, model = false;
     bool left = false, right = false, geometric = false, debug = false;
     bool any() const {
-      return plane || markings || points || markers || left || right || geometric || debug;
+      return plane || markings || points || markers || model || left || right || geometric ||
+             debug;
     }
   };
 
@@ -117,6 +119,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   /// Copy the latest reconfigured Params and the up axis into the detector when they changed.
   /// @return false (frame to skip) when the up axis is requested but unavailable.
   bool updateDetectorParams(const std::string& optical_frame);
+  /// The lane model's vehicle frame for this frame (tf lookup of lane_model_frame, else the
+  /// road-aligned fallback once the plane is known) and the odometry motion since the last one.
+  void setVehicleFrame(const std_msgs::Header& header, Frame& frame);
   /// Transform from the optical frame into the output frame; false (frame to skip) if missing.
   bool outputTransform(const std_msgs::Header& header, Eigen::Isometry3d& T, std::string& frame_id);
   void publishOutputs(const Wanted& wanted, const Frame& frame,
@@ -137,7 +142,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   std::mutex connect_mutex_;
 
   // --- outputs -----------------------------------------------------------------------------
-  ros::Publisher pub_plane_, pub_markings_, pub_points_, pub_markers_;
+  ros::Publisher pub_plane_, pub_markings_, pub_points_, pub_markers_, pub_model_;
   image_transport::Publisher pub_left_, pub_right_, pub_geometric_, pub_debug_;
 
   // --- parameters: written by configCallback, read by frameCallback ------------------------------
@@ -161,6 +166,13 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   double tf_timeout_ = 0.05;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  // --- lane model: its vehicle frame and odometry ------------------------------------------
+  std::string lane_model_frame_;  ///< vehicle frame (REP-103); "" or unknown: the road frame
+  std::string odom_frame_;        ///< fixed frame for the motion between frames; "": none
+  bool vehicle_frame_found_ = false;  ///< the last frame's vehicle frame came from tf
+  std::string model_frame_id_;    ///< frame_id of the last lane model
+  ros::Time last_model_stamp_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> road_frame_broadcaster_;
 
   // --- diagnostics (declared so that the timer goes first, the updater last) ------------------
   std::unique_ptr<diagnostic_updater::Updater> updater_;

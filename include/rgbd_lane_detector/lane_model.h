@@ -1,0 +1,150 @@
+/**
+ * @file lane_model.h
+ * @brief The lane model planners consume: typed boundaries as cubics in the vehicle frame, the
+ * ego lane's width, offset, heading and curvature, tracked by a Kalman filter (improved mode's
+ * last stage, after the detector's per-frame boundaries).
+ *
+ * Vehicle frame (REP-103): x forward, y left, z up, origin on the road under the vehicle
+ * reference point (base_link, or the road-aligned frame under the camera: see
+ * roadAlignedFrame()). Each boundary is y(x) = c0 + c1 x + c2 x^2 + c3 x^3 over [x_min, x_max]:
+ * c0 its lateral offset at the vehicle (m, + left), atan(c1) its heading relative to the
+ * vehicle's x axis, 2 c2 its curvature at x = 0 (1/m, + turning left; c2 is the raw x^2
+ * coefficient, half the curvature, as in Apollo's LaneMarker), 6 c3 the curvature's rate of
+ * change along x (1/m^2).
+ *
+ * The filter's state is the ego lane: the lateral position of its centre line at the vehicle
+ * y0, its heading psi (the centre line's slope dy/dx = tan psi at x = 0), curvature kappa,
+ * curvature rate kappa' and width w. Its centre line is y(x) = y0 + tan(psi) x + kappa x^2 / 2 +
+ * kappa' x^3 / 6, the ego boundaries are that line +-w/2. Measurements are each frame's
+ * boundaries in the vehicle frame, associated with the model by their lateral offset: the ego
+ * sides, the next lanes' lines and the road edges. A measurement one lane width from the ego
+ * side it would belong to, on the side the vehicle moves to, is a lane change: the model is
+ * relabelled (the old right line becomes the new left one) instead of being lost. Measurements
+ * farther than the gate from every boundary are ignored; after lost_frames frames without an
+ * ego measurement the model is reset. An optional motion between stamps (odom -> base_link)
+ * moves the model before the update.
+ */
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/// One boundary seen in a frame, in the camera optical frame (what the detector reports).
+struct BoundaryObservation {
+  bool left = true;                       ///< left of the vehicle
+  bool ego = true;                        ///< the detector's ego side (else a line beyond it)
+  BoundaryKind kind = BoundaryKind::kPaint;
+  const std::vector<Eigen::Vector3f>* points = nullptr;  ///< on the road, optical frame
+  float confidence = 0.0f;                ///< the detector's confidence in it
+  float paint_coverage = -1.0f;           ///< share of its length with paint (< 0: unknown)
+  float yellowness = -1.0f;               ///< yellow vs white evidence of its paint (< 0: unknown)
+};
+
+/// Settings of the lane model filter (filled from Params).
+struct LaneModelSettings {
+  double gate = 0.5;             ///< m: measurements farther from every boundary are ignored
+  int lost_frames = 10;          ///< frames without an ego measurement before a reset
+  double measurement_std = 0.05; ///< m: lateral noise of a boundary point at 10 m
+  double width_min = 0.8, width_max = 5.5;  ///< plausible lane widths (m)
+  double x_max = 60.0;           ///< longest range reported (m)
+  double dashed_coverage = 0.8;  ///< paint coverage below this is a dashed line
+  double yellowness = 0.25;      ///< paint more yellow than this is yellow
+};
+
+/**
+ * @brief Kalman filter of the ego lane with its neighbours' boundaries and the road edges.
+ * No allocation in steady state.
+ */
+class LaneModelFilter {
+ public:
+  LaneModelFilter() { reset(); }
+  /// Forget the model.
+  void reset();
+  void setSettings(const LaneModelSettings& s) { settings_ = s; }
+
+  /**
+   * @brief Move the model by the vehicle's motion since the last update (odom -> base_link).
+   * @param[in] motion pose of the vehicle now in the vehicle frame of the last update.
+   */
+  void predict(const Eigen::Isometry3d& motion);
+
+  /**
+   * @brief Update with one frame's boundaries.
+   * @param[in] vehicle_from_camera pose of the camera optical frame in the vehicle frame.
+   * @param[in] observations this frame's boundaries (any order; empty: nothing seen).
+   * @param[in] count number of observations.
+   * @param[out] model the model after the update (valid false when no ego lane is known).
+   */
+  void update(const Eigen::Isometry3d& vehicle_from_camera,
+              const BoundaryObservation* observations, int count, LaneModelEstimate& model);
+
+ private:
+  using State = Eigen::Matrix<double, 5, 1>;  ///< y0, slope tan(psi), kappa, kappa', w
+  using Cov = Eigen::Matrix<double, 5, 5>;
+  using Row = Eigen::Matrix<double, 1, 5>;
+  static constexpr int kStations = 8;  ///< samples kept per observation
+
+  /// One observation in the vehicle frame: up to kStations (x, y) samples, near to far.
+  struct Track {
+    std::array<Eigen::Vector2d, kStations> xy;
+    int n = 0;
+    double x_min = 0.0, x_max = 0.0;
+    const BoundaryObservation* obs = nullptr;
+    int assigned = -1;  ///< BoundaryPosition it was associated with, -1: none
+  };
+  /// What is remembered of each boundary position between frames.
+  struct Memory {
+    int frames = 0;           ///< frames it was seen since it appeared
+    int age = 1000;           ///< frames since it was last seen
+    double x_min = 0.0, x_max = 0.0;
+    double beyond = 0.0;      ///< outer boundaries: lateral distance beyond their ego side (m)
+    double beyond_var = 1.0;
+    float detector_confidence = 0.0f;
+    float coverage = -1.0f;   ///< smoothed paint coverage (< 0: unknown)
+    float yellow = -1.0f;     ///< smoothed yellowness (< 0: unknown)
+    float edge_vote = 0.0f;   ///< > 0: road edge, < 0: paint
+    double residual = 0.0;    ///< smoothed mean |y - prediction| of its observations (m)
+  };
+
+  bool project(const Eigen::Isometry3d& T, const BoundaryObservation& o, Track& t) const;
+  /// Boundary @p p was seen within the last lost_frames frames.
+  bool known(int p) const { return memory_[p].age <= settings_.lost_frames; }
+  /// Lateral position of boundary @p p at x (from the state and the memory).
+  double predicted(int p, double x) const;
+  Row measurementRow(int p, double x) const;
+  double measurementVariance(double x) const;
+  void initialise(const Track* left, const Track* right);
+  void associate(int count);
+  void updateEgo(const Track& t, int p);
+  void updateOuter(const Track& t, int p);
+  void remember(const Track& t, int p, double residual);
+  void relabel(int direction);
+  void fill(LaneModelEstimate& model) const;
+
+  LaneModelSettings settings_;
+  State x_;
+  Cov P_;
+  bool initialised_ = false;
+  int lost_ = 0;
+  int lane_changes_ = 0;
+  std::array<Track, 8> tracks_;
+  std::array<Memory, kNumBoundaryPositions> memory_;
+};
+
+/**
+ * @brief The road-aligned frame under the camera, the vehicle frame when no base_link is known:
+ * origin where the camera's vertical meets the road plane, z the plane's normal (up), x the
+ * camera's optical axis projected onto the plane (forward), y = z x x (left).
+ * @param[in] plane road plane in the optical frame (valid).
+ * @return pose of the camera optical frame in that frame (identity for an invalid plane).
+ */
+Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane);
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,461 @@
+#include "rgbd_lane_detector/lane_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr double kNominalWidth = 3.5;   // m: width of a lane whose other side was never seen
+constexpr double kMinForward = 0.5;     // m: nearer points are not used
+constexpr double kQuadraticRange = 12.0;  // m of x-range before a side's curvature is fitted
+// Process noise per update (no motion given: the lane moves relative to the vehicle).
+constexpr double kQ[5] = {0.04 * 0.04, 0.01 * 0.01, 2e-4 * 2e-4, 1e-5 * 1e-5, 0.02 * 0.02};
+// Initial standard deviations of a fresh model.
+constexpr double kP0[5] = {0.2, 0.03, 2e-3, 1e-4, 0.3};
+constexpr double kStationGate = 3.0;    // sigmas: a station further from the model is skipped
+constexpr double kNextMin = 1.5;        // m: an outer line at least this far beyond its ego side
+constexpr double kNextMax = 6.0;        // m: ... and at most this far
+constexpr float kMemory = 0.7f;         // per-frame weight of the past in the smoothed evidence
+constexpr double kSupportFrames = 3.0;  // frames of evidence for a support of 1 - 1/e
+constexpr double kAgeDecay = 0.85;      // per frame without evidence
+constexpr double kResidualScale = 0.3;  // m
+
+inline bool isLeft(int p) { return p % 2 == 0; }
+inline bool isEgo(int p) { return p < 2; }
+inline int egoOf(int p) { return isLeft(p) ? 0 : 1; }
+
+// Least-squares y = a + b x (+ c x^2 when the range allows) through a track's samples.
+bool fitSide(const Eigen::Vector2d* xy, int n, double range, double& a, double& b, double& c) {
+  if (n < 2) return false;
+  const bool quadratic = range >= kQuadraticRange && n >= 4;
+  Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d phi(1.0, xy[i].x(), quadratic ? xy[i].x() * xy[i].x() : 0.0);
+    N.noalias() += phi * phi.transpose();
+    r += phi * xy[i].y();
+  }
+  if (!quadratic) N(2, 2) = 1.0;
+  const Eigen::Vector3d s = N.ldlt().solve(r);
+  if (!s.allFinite()) return false;
+  a = s[0];
+  b = s[1];
+  c = quadratic ? s[2] : 0.0;
+  return true;
+}
+
+}  // namespace
+
+const char* boundaryPositionName(BoundaryPosition p) {
+  switch (p) {
+    case BoundaryPosition::kEgoLeft:
+      return "ego_left";
+    case BoundaryPosition::kEgoRight:
+      return "ego_right";
+    case BoundaryPosition::kNextLeft:
+      return "next_left";
+    case BoundaryPosition::kNextRight:
+      return "next_right";
+    case BoundaryPosition::kRoadEdgeLeft:
+      return "road_edge_left";
+    case BoundaryPosition::kRoadEdgeRight:
+      return "road_edge_right";
+  }
+  return "unknown";
+}
+
+const char* lineKindName(LineKind k) {
+  switch (k) {
+    case LineKind::kSolid:
+      return "solid";
+    case LineKind::kDashed:
+      return "dashed";
+    case LineKind::kRoadEdge:
+      return "road_edge";
+    default:
+      return "unknown";
+  }
+}
+
+const char* lineColourName(LineColour c) {
+  switch (c) {
+    case LineColour::kWhite:
+      return "white";
+    case LineColour::kYellow:
+      return "yellow";
+    default:
+      return "unknown";
+  }
+}
+
+Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (!plane.valid) return T;
+  const Eigen::Vector3d z = plane.normal.normalized();  // up, optical frame
+  Eigen::Vector3d x = Eigen::Vector3d::UnitZ() - z * z.z();
+  if (x.norm() < 1e-6) return T;
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R;  // rows: the road frame's axes in the optical frame
+  R.row(0) = x.transpose();
+  R.row(1) = y.transpose();
+  R.row(2) = z.transpose();
+  T.linear() = R;
+  // the camera is plane.distance above the origin
+  T.translation() = Eigen::Vector3d(0.0, 0.0, plane.distance);
+  return T;
+}
+
+void LaneModelFilter::reset() {
+  x_.setZero();
+  x_[4] = kNominalWidth;
+  P_.setZero();
+  for (int i = 0; i < 5; ++i) P_(i, i) = kP0[i] * kP0[i];
+  initialised_ = false;
+  lost_ = 0;
+  lane_changes_ = 0;
+  for (auto& m : memory_) m = Memory();
+}
+
+void LaneModelFilter::predict(const Eigen::Isometry3d& motion) {
+  if (!initialised_) return;
+  // the vehicle moved by (dx, dy) and turned by dpsi: the lane as seen from the new pose
+  const double dx = motion.translation().x(), dy = motion.translation().y();
+  const double dpsi = std::atan2(motion.linear()(1, 0), motion.linear()(0, 0));
+  const double y0 = x_[0], t = x_[1], k = x_[2], kr = x_[3];
+  Eigen::Matrix<double, 5, 5> F = Eigen::Matrix<double, 5, 5>::Identity();
+  F(0, 1) = dx;
+  F(0, 2) = 0.5 * dx * dx;
+  F(0, 3) = dx * dx * dx / 6.0;
+  F(1, 2) = dx;
+  F(1, 3) = 0.5 * dx * dx;
+  F(2, 3) = dx;
+  x_[0] = y0 + t * dx + 0.5 * k * dx * dx + kr * dx * dx * dx / 6.0 - dy;
+  x_[1] = t + k * dx + 0.5 * kr * dx * dx - dpsi;
+  x_[2] = k + kr * dx;
+  P_ = F * P_ * F.transpose();
+  for (Memory& m : memory_) {
+    m.x_min = std::max(0.0, m.x_min - dx);
+    m.x_max = std::max(m.x_min, m.x_max - dx);
+  }
+}
+
+double LaneModelFilter::predicted(int p, double x) const {
+  const double centre = x_[0] + x * (x_[1] + x * (0.5 * x_[2] + x * x_[3] / 6.0));
+  const double half = 0.5 * x_[4];
+  const double side = isLeft(p) ? 1.0 : -1.0;
+  if (isEgo(p)) return centre + side * half;
+  const double beyond = known(p) ? memory_[p].beyond : x_[4];
+  return centre + side * (half + beyond);
+}
+
+LaneModelFilter::Row LaneModelFilter::measurementRow(int p, double x) const {
+  Row H;
+  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5;
+  return H;
+}
+
+double LaneModelFilter::measurementVariance(double x) const {
+  const double s = settings_.measurement_std * (1.0 + (x / 20.0) * (x / 20.0));
+  return s * s;
+}
+
+bool LaneModelFilter::project(const Eigen::Isometry3d& T, const BoundaryObservation& o,
+                              Track& t) const {
+  t.n = 0;
+  t.obs = &o;
+  t.assigned = -1;
+  if (o.points == nullptr) return false;
+  // first and last usable points, then kStations samples spread over the points in between
+  const std::vector<Eigen::Vector3f>& pts = *o.points;
+  int first = -1, last = -1, usable = 0;
+  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+    if (!pts[i].allFinite()) continue;
+    const double x = (T * pts[i].cast<double>()).x();
+    if (x < kMinForward || x > settings_.x_max) continue;
+    if (first < 0) first = i;
+    last = i;
+    ++usable;
+  }
+  if (usable < 2) return false;
+  const int want = std::min(kStations, usable);
+  int taken = 0;
+  double prev = -1.0;
+  for (int s = 0; s < want; ++s) {
+    const int i = first + static_cast<int>(std::lround(static_cast<double>(s) * (last - first) /
+                                                       std::max(1, want - 1)));
+    if (i < 0 || i >= static_cast<int>(pts.size()) || !pts[i].allFinite()) continue;
+    const Eigen::Vector3d q = T * pts[i].cast<double>();
+    if (q.x() < kMinForward || q.x() > settings_.x_max || q.x() == prev) continue;
+    prev = q.x();
+    t.xy[taken++] = Eigen::Vector2d(q.x(), q.y());
+  }
+  t.n = taken;
+  if (t.n < 2) return false;
+  t.x_min = t.x_max = t.xy[0].x();
+  for (int i = 1; i < t.n; ++i) {
+    t.x_min = std::min(t.x_min, t.xy[i].x());
+    t.x_max = std::max(t.x_max, t.xy[i].x());
+  }
+  return true;
+}
+
+void LaneModelFilter::initialise(const Track* left, const Track* right) {
+  reset();
+  double a[2] = {0, 0}, b[2] = {0, 0}, c[2] = {0, 0};
+  bool have[2] = {false, false};
+  const Track* sides[2] = {left, right};
+  for (int i = 0; i < 2; ++i)
+    if (sides[i]) have[i] = fitSide(sides[i]->xy.data(), sides[i]->n,
+                                    sides[i]->x_max - sides[i]->x_min, a[i], b[i], c[i]);
+  if (have[0] && have[1]) {
+    const double w = a[0] - a[1];
+    if (w >= settings_.width_min && w <= settings_.width_max) {
+      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w;
+      P_(4, 4) = 0.1 * 0.1;
+      initialised_ = true;
+      return;
+    }
+    // not one lane: keep the more trusted side
+    const int keep = left->obs->confidence >= right->obs->confidence ? 0 : 1;
+    have[1 - keep] = false;
+  }
+  for (int i = 0; i < 2; ++i) {
+    if (!have[i]) continue;
+    const double half = 0.5 * kNominalWidth;
+    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth;
+    P_(4, 4) = 1.0;
+    initialised_ = true;
+    return;
+  }
+}
+
+void LaneModelFilter::associate(int count) {
+  // Every (observation, position) pair within the gate, nearest first; each observation and
+  // each position at most once.
+  struct Pair {
+    double d;
+    int track, position;
+  };
+  std::array<Pair, 8 * kNumBoundaryPositions> pairs;
+  int n = 0;
+  for (int k = 0; k < count; ++k) {
+    const Track& t = tracks_[k];
+    if (t.n == 0) continue;
+    const bool edge = t.obs->kind == BoundaryKind::kRoadEdge;
+    for (int p = 0; p < kNumBoundaryPositions; ++p) {
+      if (p >= 4 && !edge) continue;          // road edges are not paint
+      if (p == 2 || p == 3) {
+        if (edge) continue;                   // next lanes' lines are paint
+      }
+      double sum = 0.0;
+      for (int i = 0; i < t.n; ++i) sum += std::fabs(t.xy[i].y() - predicted(p, t.xy[i].x()));
+      const double d = sum / t.n;
+      const double xm = 0.5 * (t.x_min + t.x_max);
+      const Row H = measurementRow(isEgo(p) ? p : egoOf(p), xm);
+      double var = (H * P_ * H.transpose())(0, 0);
+      if (!isEgo(p)) var += known(p) ? memory_[p].beyond_var : 1.0;
+      double gate = settings_.gate + 2.0 * std::sqrt(var);
+      if (!isEgo(p) && !known(p)) {
+        // a first sighting of an outer line: anywhere a lane beyond its ego side
+        const double beyond = (isLeft(p) ? 1.0 : -1.0) * (t.xy[0].y() - predicted(egoOf(p), t.xy[0].x()));
+        if (beyond < kNextMin || beyond > kNextMax) continue;
+        gate = 1e9;
+      }
+      if (d <= gate && n < static_cast<int>(pairs.size())) pairs[n++] = Pair{d, k, p};
+    }
+  }
+  std::sort(pairs.begin(), pairs.begin() + n, [](const Pair& a, const Pair& b) { return a.d < b.d; });
+  bool used[kNumBoundaryPositions] = {false, false, false, false, false, false};
+  for (int i = 0; i < n; ++i) {
+    Track& t = tracks_[pairs[i].track];
+    if (t.assigned >= 0 || used[pairs[i].position]) continue;
+    t.assigned = pairs[i].position;
+    used[pairs[i].position] = true;
+  }
+}
+
+void LaneModelFilter::updateEgo(const Track& t, int p) {
+  for (int i = 0; i < t.n; ++i) {
+    const double x = t.xy[i].x();
+    const Row H = measurementRow(p, x);
+    const double S = (H * P_ * H.transpose())(0, 0) + measurementVariance(x);
+    const double innovation = t.xy[i].y() - (H * x_)(0, 0);
+    if (std::fabs(innovation) > kStationGate * std::sqrt(S)) continue;
+    const Eigen::Matrix<double, 5, 1> K = P_ * H.transpose() / S;
+    x_ += K * innovation;
+    P_ -= K * S * K.transpose();
+  }
+  P_ = 0.5 * (P_ + P_.transpose());
+  x_[4] = std::min(std::max(x_[4], settings_.width_min), settings_.width_max);
+}
+
+void LaneModelFilter::updateOuter(const Track& t, int p) {
+  // distance beyond the ego side, averaged over the stations, into a 1D filter
+  double sum = 0.0;
+  const double side = isLeft(p) ? 1.0 : -1.0;
+  for (int i = 0; i < t.n; ++i) sum += side * (t.xy[i].y() - predicted(egoOf(p), t.xy[i].x()));
+  const double z = sum / t.n;
+  Memory& m = memory_[p];
+  const double r = measurementVariance(0.5 * (t.x_min + t.x_max));
+  if (!known(p)) {
+    m.beyond = z;
+    m.beyond_var = r + 0.05;
+  } else {
+    const double g = m.beyond_var / (m.beyond_var + r);
+    m.beyond += g * (z - m.beyond);
+    m.beyond_var = (1.0 - g) * m.beyond_var;
+  }
+}
+
+void LaneModelFilter::remember(const Track& t, int p, double residual) {
+  Memory& m = memory_[p];
+  const BoundaryObservation& o = *t.obs;
+  const bool fresh = !known(p);
+  m.frames = fresh ? 1 : m.frames + 1;
+  m.age = 0;
+  m.x_min = t.x_min;
+  m.x_max = t.x_max;
+  const float edge = o.kind == BoundaryKind::kRoadEdge ? 1.0f : -1.0f;
+  auto blend = [fresh](float old_value, float value) {
+    if (value < 0.0f) return old_value;
+    return fresh || old_value < 0.0f ? value : kMemory * old_value + (1.0f - kMemory) * value;
+  };
+  m.detector_confidence = fresh ? o.confidence
+                                : kMemory * m.detector_confidence + (1.0f - kMemory) * o.confidence;
+  m.coverage = blend(fresh ? -1.0f : m.coverage, o.paint_coverage);
+  m.yellow = blend(fresh ? -1.0f : m.yellow, o.yellowness);
+  m.edge_vote = fresh ? edge : kMemory * m.edge_vote + (1.0f - kMemory) * edge;
+  m.residual = fresh ? residual : kMemory * m.residual + (1.0 - kMemory) * residual;
+}
+
+void LaneModelFilter::relabel(int direction) {
+  // direction +1: the vehicle is now in the lane left of the old ego lane. The old left line is
+  // the new right one; the old next-left line (if seen) the new left one.
+  const int L = direction > 0 ? 0 : 1;     // the ego side the vehicle crossed
+  const int R = 1 - L;                     // the other ego side
+  const int next = direction > 0 ? 2 : 3;  // the next line on the crossed side
+  const int far = 1 - L + 2;               // the next line on the other side
+  const int edge_near = direction > 0 ? 4 : 5, edge_far = direction > 0 ? 5 : 4;
+  const double side = direction > 0 ? 1.0 : -1.0;
+  const double old_w = x_[4];
+  const bool know_next = known(next);
+  const double new_w = know_next ? std::min(std::max(memory_[next].beyond, settings_.width_min),
+                                            settings_.width_max)
+                                 : old_w;
+  x_[0] += side * 0.5 * (old_w + new_w);
+  x_[4] = new_w;
+  if (know_next) P_(4, 4) = memory_[next].beyond_var + 0.01;
+  Memory crossed = memory_[L], other = memory_[R], next_m = memory_[next];
+  memory_[R] = crossed;  // the crossed line is now the ego line on the other side
+  memory_[L] = know_next ? next_m : Memory();
+  memory_[far] = other;  // the old far ego line is one lane beyond the new ego line
+  memory_[far].beyond = old_w;
+  memory_[far].beyond_var = P_(4, 4);
+  memory_[next] = Memory();
+  memory_[edge_near].beyond -= new_w;
+  if (memory_[edge_near].beyond < kNextMin * 0.5) memory_[edge_near] = Memory();
+  memory_[edge_far].beyond += old_w;
+  lane_changes_ += direction;
+}
+
+void LaneModelFilter::update(const Eigen::Isometry3d& vehicle_from_camera,
+                             const BoundaryObservation* observations, int count, LaneModelEstimate& model) {
+  count = std::min(count, static_cast<int>(tracks_.size()));
+  for (int k = 0; k < count; ++k) project(vehicle_from_camera, observations[k], tracks_[k]);
+  for (Memory& m : memory_) m.age = std::min(m.age + 1, 1000);
+
+  if (!initialised_) {
+    const Track *left = nullptr, *right = nullptr;
+    for (int k = 0; k < count; ++k) {
+      const Track& t = tracks_[k];
+      if (t.n < 2 || !t.obs->ego) continue;
+      (t.obs->left ? left : right) = &t;
+    }
+    if (left || right) initialise(left, right);
+  } else {
+    for (int i = 0; i < 5; ++i) P_(i, i) += kQ[i];
+  }
+  if (initialised_) {
+    // the vehicle left the ego lane (the model says so): relabel before associating
+    if (x_[0] - 0.5 * x_[4] > 0.0) relabel(-1);
+    else if (x_[0] + 0.5 * x_[4] < 0.0) relabel(+1);
+    associate(count);
+    bool ego_seen = false;
+    for (int p = 0; p < 2; ++p)
+      for (int k = 0; k < count; ++k)
+        if (tracks_[k].assigned == p) {
+          updateEgo(tracks_[k], p);
+          ego_seen = true;
+        }
+    for (int k = 0; k < count; ++k) {
+      const Track& t = tracks_[k];
+      if (t.assigned < 0) continue;
+      if (!isEgo(t.assigned)) updateOuter(t, t.assigned);
+      double sum = 0.0;
+      for (int i = 0; i < t.n; ++i) sum += std::fabs(t.xy[i].y() - predicted(t.assigned, t.xy[i].x()));
+      remember(t, t.assigned, sum / t.n);
+    }
+    lost_ = ego_seen ? 0 : lost_ + 1;
+    if (lost_ > settings_.lost_frames) reset();
+  }
+  fill(model);
+}
+
+void LaneModelFilter::fill(LaneModelEstimate& model) const {
+  model.valid = false;
+  model.lane_changes = lane_changes_;
+  for (auto& b : model.boundaries) b.valid = false;
+  if (!initialised_) return;
+  const bool left = known(0);
+  const bool right = known(1);
+  if (!left && !right) return;
+  model.valid = true;
+  model.width = x_[4];
+  model.offset = -x_[0];
+  model.heading_error = -std::atan(x_[1]);
+  model.curvature = x_[2];
+  model.curvature_rate = x_[3];
+  model.centre = {x_[0], x_[1], 0.5 * x_[2], x_[3] / 6.0};
+  model.x_min = 1e9;
+  model.x_max = 0.0;
+  for (int p = 0; p < kNumBoundaryPositions; ++p) {
+    const Memory& m = memory_[p];
+    LaneBoundaryModel& b = model.boundaries[p];
+    b.position = static_cast<BoundaryPosition>(p);
+    if (!known(p)) continue;
+    b.valid = true;
+    const double c0 = predicted(p, 0.0);
+    b.c = {c0, x_[1], 0.5 * x_[2], x_[3] / 6.0};
+    b.x_min = m.x_min;
+    b.x_max = m.x_max;
+    if (m.edge_vote > 0.0f) {
+      b.kind = LineKind::kRoadEdge;
+      b.colour = LineColour::kUnknown;
+    } else {
+      b.kind = m.coverage < 0.0f ? LineKind::kUnknown
+               : m.coverage < settings_.dashed_coverage ? LineKind::kDashed
+                                                        : LineKind::kSolid;
+      b.colour = m.yellow < 0.0f ? LineColour::kUnknown
+                 : m.yellow >= settings_.yellowness ? LineColour::kYellow
+                                                    : LineColour::kWhite;
+    }
+    const double xm = 0.5 * (b.x_min + b.x_max);
+    const Row H = measurementRow(isEgo(p) ? p : egoOf(p), xm);
+    double var = (H * P_ * H.transpose())(0, 0);
+    if (!isEgo(p)) var += m.beyond_var;
+    b.lateral_std = static_cast<float>(std::sqrt(std::max(0.0, var)));
+    const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
+    const double fresh = std::pow(kAgeDecay, m.age);
+    const double fit = std::exp(-m.residual / kResidualScale);
+    b.confidence = static_cast<float>(support * fresh * fit * (0.5 + 0.5 * m.detector_confidence));
+    if (isEgo(p)) {
+      model.x_min = std::min(model.x_min, b.x_min);
+      model.x_max = std::max(model.x_max, b.x_max);
+    }
+  }
+  if (model.x_min > model.x_max) model.x_min = model.x_max = 0.0;
+}
+
+}  // namespace rgbd_lane_detector
