@@ -8,6 +8,35 @@ namespace rgbd_lane_detector {
 namespace tools {
 namespace {
 
+constexpr int kFormat = 2;
+
+// Names in the file, indexed by the enum value.
+const char* const kLabelNames[] = {"ego_left",  "ego_right",      "next_left",
+                                   "next_right", "road_edge_left", "road_edge_right"};
+const char* const kStyleNames[] = {"unknown", "solid", "dashed", "double_solid", "road_edge"};
+const char* const kColourNames[] = {"unknown", "none", "white", "yellow"};
+const char* const kEdgeNames[] = {"none", "kerb", "rails", "asphalt_edge", "shoulder_edge"};
+const char* const kKindNames[] = {"paint", "road_edge"};
+
+template <typename E, size_t N>
+const char* nameOf(E value, const char* const (&names)[N]) {
+  const size_t i = static_cast<size_t>(value);
+  return i < N ? names[i] : "?";
+}
+
+template <typename E, size_t N>
+bool parseName(const cv::FileNode& n, const char* const (&names)[N], E& out) {
+  if (!n.isString()) return false;
+  const std::string text = static_cast<std::string>(n);
+  for (size_t i = 0; i < N; ++i) {
+    if (text == names[i]) {
+      out = static_cast<E>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
 void writeLine(cv::FileStorage& fs, const char* name, const std::vector<Eigen::Vector3d>& line) {
   fs << name << "[";
   for (const auto& p : line) {
@@ -18,13 +47,29 @@ void writeLine(cv::FileStorage& fs, const char* name, const std::vector<Eigen::V
   fs << "]";
 }
 
-bool readVector(const cv::FileNode& n, Eigen::Vector3d& v) {
-  if (!n.isSeq() || n.size() != 3) return false;
-  for (int i = 0; i < 3; ++i) {
+void writeTransform(cv::FileStorage& fs, const char* name, const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.linear());
+  const Eigen::Vector3d t = T.translation();
+  fs << name << "{";
+  fs << "translation"
+     << "[" << t.x() << t.y() << t.z() << "]";
+  fs << "rotation"
+     << "[" << q.x() << q.y() << q.z() << q.w() << "]";
+  fs << "}";
+}
+
+bool readNumbers(const cv::FileNode& n, double* out, int count) {
+  if (!n.isSeq() || static_cast<int>(n.size()) != count) return false;
+  for (int i = 0; i < count; ++i) {
     if (!n[i].isReal() && !n[i].isInt()) return false;
-    v[i] = static_cast<double>(n[i]);
+    out[i] = static_cast<double>(n[i]);
+    if (!std::isfinite(out[i])) return false;
   }
-  return v.allFinite();
+  return true;
+}
+
+bool readVector(const cv::FileNode& n, Eigen::Vector3d& v) {
+  return readNumbers(n, v.data(), 3);
 }
 
 bool readLine(const cv::FileNode& n, std::vector<Eigen::Vector3d>& line) {
@@ -40,7 +85,111 @@ bool readLine(const cv::FileNode& n, std::vector<Eigen::Vector3d>& line) {
   return true;
 }
 
+bool readTransform(const cv::FileNode& n, Eigen::Isometry3d& T) {
+  if (!n.isMap()) return false;
+  Eigen::Vector3d t;
+  double q[4];
+  if (!readVector(n["translation"], t) || !readNumbers(n["rotation"], q, 4)) return false;
+  const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
+  if (std::fabs(quat.norm() - 1.0) > 1e-3) return false;
+  T = Eigen::Isometry3d::Identity();
+  T.linear() = quat.normalized().toRotationMatrix();
+  T.translation() = t;
+  return true;
+}
+
+bool readBoundary(const cv::FileNode& n, TrueBoundary& b) {
+  return n.isMap() && parseName(n["label"], kLabelNames, b.label) &&
+         parseName(n["kind"], kKindNames, b.kind) && parseName(n["style"], kStyleNames, b.style) &&
+         parseName(n["colour"], kColourNames, b.colour) &&
+         parseName(n["edge"], kEdgeNames, b.edge) && readLine(n["points"], b.points) &&
+         readLine(n["points_base"], b.points_base) && !b.points.empty() &&
+         (b.points_base.empty() || b.points_base.size() == b.points.size());
+}
+
+// Format 1: the ego lines were paint of unknown style and colour.
+void legacyBoundaries(FrameTruth& f) {
+  f.boundaries.clear();
+  for (const bool left : {true, false}) {
+    const auto& line = left ? f.left : f.right;
+    if (line.empty()) continue;
+    TrueBoundary b;
+    b.label = left ? BoundaryLabel::kEgoLeft : BoundaryLabel::kEgoRight;
+    b.points = line;
+    f.boundaries.push_back(b);
+  }
+}
+
+bool readFrame(const cv::FileNode& n, int format, FrameTruth& f) {
+  f.index = static_cast<int>(n["index"]);
+  f.distance = static_cast<double>(n["plane_distance"]);
+  f.has_lane = static_cast<int>(n["has_lane"]) != 0;
+  if (!readVector(n["plane_normal"], f.normal) || !std::isfinite(f.distance) ||
+      std::fabs(f.normal.norm() - 1.0) > 1e-3 || !readLine(n["left"], f.left) ||
+      !readLine(n["right"], f.right))
+    return false;
+  if (format < 2) {
+    legacyBoundaries(f);
+    return true;
+  }
+  f.plane_rms = static_cast<double>(n["plane_rms"]);
+  f.lane_optional = static_cast<int>(n["lane_optional"]) != 0;
+  const cv::FileNode list = n["boundaries"];
+  if (!list.isSeq()) return false;
+  bool seen[kNumBoundaryLabels] = {};
+  for (const auto& item : list) {
+    TrueBoundary b;
+    if (!readBoundary(item, b) || seen[static_cast<int>(b.label)]) return false;
+    seen[static_cast<int>(b.label)] = true;
+    f.boundaries.push_back(std::move(b));
+  }
+  f.syncEgoLines();
+  const cv::FileNode lane = n["lane"];
+  f.has_vehicle_frame = !n["base_to_camera"].empty();
+  if (f.has_vehicle_frame) {
+    if (!readTransform(n["base_to_camera"], f.base_to_camera) || !lane.isMap()) return false;
+    f.lane.valid = static_cast<int>(lane["valid"]) != 0;
+    f.lane.width = static_cast<double>(lane["width"]);
+    f.lane.offset = static_cast<double>(lane["offset"]);
+    f.lane.heading = static_cast<double>(lane["heading"]);
+    f.lane.curvature = static_cast<double>(lane["curvature"]);
+  }
+  return std::isfinite(f.plane_rms) && std::isfinite(f.lane.width) &&
+         std::isfinite(f.lane.offset) && std::isfinite(f.lane.heading) &&
+         std::isfinite(f.lane.curvature);
+}
+
 }  // namespace
+
+const char* boundaryLabelName(BoundaryLabel label) {
+  return nameOf(label, kLabelNames);
+}
+const char* lineStyleName(LineStyle style) {
+  return nameOf(style, kStyleNames);
+}
+const char* lineColourName(LineColour colour) {
+  return nameOf(colour, kColourNames);
+}
+const char* edgeTypeName(EdgeType edge) {
+  return nameOf(edge, kEdgeNames);
+}
+const char* sideKindName(const TrueBoundary* side) {
+  return side ? boundaryKindName(side->kind) : "none";
+}
+
+const TrueBoundary* FrameTruth::boundary(BoundaryLabel label) const {
+  for (const auto& b : boundaries)
+    if (b.label == label) return &b;
+  return nullptr;
+}
+
+void FrameTruth::syncEgoLines() {
+  const TrueBoundary* l = egoSide(true);
+  const TrueBoundary* r = egoSide(false);
+  left = l ? l->points : std::vector<Eigen::Vector3d>();
+  right = r ? r->points : std::vector<Eigen::Vector3d>();
+  has_lane = l || r;
+}
 
 const FrameTruth* SequenceTruth::find(int index) const {
   // frames are usually stored in index order: try the direct slot first
@@ -58,6 +207,8 @@ bool writeGroundTruth(const std::string& path, const SequenceTruth& truth, std::
       error = "cannot write " + path;
       return false;
     }
+    fs << "format" << kFormat;
+    if (truth.has_mount) writeTransform(fs, "mount", truth.mount);
     fs << "frames"
        << "[";
     for (const auto& f : truth.frames) {
@@ -66,9 +217,36 @@ bool writeGroundTruth(const std::string& path, const SequenceTruth& truth, std::
       fs << "plane_normal"
          << "[" << f.normal.x() << f.normal.y() << f.normal.z() << "]";
       fs << "plane_distance" << f.distance;
+      fs << "plane_rms" << f.plane_rms;
       fs << "has_lane" << static_cast<int>(f.has_lane);
+      fs << "lane_optional" << static_cast<int>(f.lane_optional);
       writeLine(fs, "left", f.left);
       writeLine(fs, "right", f.right);
+      fs << "boundaries"
+         << "[";
+      for (const auto& b : f.boundaries) {
+        fs << "{";
+        fs << "label" << boundaryLabelName(b.label);
+        fs << "kind" << boundaryKindName(b.kind);
+        fs << "style" << lineStyleName(b.style);
+        fs << "colour" << lineColourName(b.colour);
+        fs << "edge" << edgeTypeName(b.edge);
+        writeLine(fs, "points", b.points);
+        writeLine(fs, "points_base", b.points_base);
+        fs << "}";
+      }
+      fs << "]";
+      if (f.has_vehicle_frame) {
+        writeTransform(fs, "base_to_camera", f.base_to_camera);
+        fs << "lane"
+           << "{";
+        fs << "valid" << static_cast<int>(f.lane.valid);
+        fs << "width" << f.lane.width;
+        fs << "offset" << f.lane.offset;
+        fs << "heading" << f.lane.heading;
+        fs << "curvature" << f.lane.curvature;
+        fs << "}";
+      }
       fs << "}";
     }
     fs << "]";
@@ -80,11 +258,22 @@ bool writeGroundTruth(const std::string& path, const SequenceTruth& truth, std::
 }
 
 bool readGroundTruth(const std::string& path, SequenceTruth& truth, std::string& error) {
-  truth.frames.clear();
+  truth = SequenceTruth();
   try {
     cv::FileStorage fs(path, cv::FileStorage::READ);
     if (!fs.isOpened()) {
       error = "cannot open ground truth " + path;
+      return false;
+    }
+    const cv::FileNode format = fs["format"];
+    truth.format = format.empty() ? 1 : static_cast<int>(format);
+    if (truth.format < 1 || truth.format > kFormat) {
+      error = path + ": unknown ground truth format " + std::to_string(truth.format);
+      return false;
+    }
+    truth.has_mount = !fs["mount"].empty();
+    if (truth.has_mount && !readTransform(fs["mount"], truth.mount)) {
+      error = path + ": malformed \"mount\"";
       return false;
     }
     const cv::FileNode frames = fs["frames"];
@@ -95,12 +284,7 @@ bool readGroundTruth(const std::string& path, SequenceTruth& truth, std::string&
     truth.frames.reserve(frames.size());
     for (const auto& n : frames) {
       FrameTruth f;
-      f.index = static_cast<int>(n["index"]);
-      f.distance = static_cast<double>(n["plane_distance"]);
-      f.has_lane = static_cast<int>(n["has_lane"]) != 0;
-      if (!readVector(n["plane_normal"], f.normal) || !std::isfinite(f.distance) ||
-          std::fabs(f.normal.norm() - 1.0) > 1e-3 || !readLine(n["left"], f.left) ||
-          !readLine(n["right"], f.right)) {
+      if (!readFrame(n, truth.format, f)) {
         error = path + ": malformed frame " + std::to_string(truth.frames.size());
         truth.frames.clear();
         return false;
