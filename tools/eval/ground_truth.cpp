@@ -1,6 +1,8 @@
 #include "rgbd_lane_detector_tools/ground_truth.h"
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 
 #include <opencv2/core.hpp>
 
@@ -37,25 +39,42 @@ bool parseName(const cv::FileNode& n, const char* const (&names)[N], E& out) {
   return false;
 }
 
-void writeLine(cv::FileStorage& fs, const char* name, const std::vector<Eigen::Vector3d>& line) {
-  fs << name << "[";
-  for (const auto& p : line) {
-    // float precision (micrometres) keeps the file small
-    fs << "[" << static_cast<float>(p.x()) << static_cast<float>(p.y()) << static_cast<float>(p.z())
-       << "]";
-  }
-  fs << "]";
+// Compact JSON (cv::FileStorage would put every number on its own line): one frame per few
+// lines, points at 0.1 mm.
+void writeNumber(std::ostream& out, double v, const char* format) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), format, v);
+  out << buf;
 }
 
-void writeTransform(cv::FileStorage& fs, const char* name, const Eigen::Isometry3d& T) {
+void writeLine(std::ostream& out, const std::vector<Eigen::Vector3d>& line) {
+  out << "[";
+  for (size_t i = 0; i < line.size(); ++i) {
+    out << (i ? ",[" : "[");
+    for (int c = 0; c < 3; ++c) {
+      if (c) out << ",";
+      writeNumber(out, line[i][c] == 0.0 ? 0.0 : line[i][c], "%.4f");
+    }
+    out << "]";
+  }
+  out << "]";
+}
+
+void writeTransform(std::ostream& out, const Eigen::Isometry3d& T) {
   const Eigen::Quaterniond q(T.linear());
   const Eigen::Vector3d t = T.translation();
-  fs << name << "{";
-  fs << "translation"
-     << "[" << t.x() << t.y() << t.z() << "]";
-  fs << "rotation"
-     << "[" << q.x() << q.y() << q.z() << q.w() << "]";
-  fs << "}";
+  out << "{\"translation\": [";
+  for (int c = 0; c < 3; ++c) {
+    if (c) out << ", ";
+    writeNumber(out, t[c], "%.17g");
+  }
+  out << "], \"rotation\": [";
+  const double r[4] = {q.x(), q.y(), q.z(), q.w()};
+  for (int c = 0; c < 4; ++c) {
+    if (c) out << ", ";
+    writeNumber(out, r[c], "%.17g");
+  }
+  out << "]}";
 }
 
 bool readNumbers(const cv::FileNode& n, double* out, int count) {
@@ -103,8 +122,7 @@ bool readBoundary(const cv::FileNode& n, TrueBoundary& b) {
          parseName(n["kind"], kKindNames, b.kind) && parseName(n["style"], kStyleNames, b.style) &&
          parseName(n["colour"], kColourNames, b.colour) &&
          parseName(n["edge"], kEdgeNames, b.edge) && readLine(n["points"], b.points) &&
-         readLine(n["points_base"], b.points_base) && !b.points.empty() &&
-         (b.points_base.empty() || b.points_base.size() == b.points.size());
+         !b.points.empty();
 }
 
 // Format 1: the ego lines were paint of unknown style and colour.
@@ -153,6 +171,10 @@ bool readFrame(const cv::FileNode& n, int format, FrameTruth& f) {
     f.lane.offset = static_cast<double>(lane["offset"]);
     f.lane.heading = static_cast<double>(lane["heading"]);
     f.lane.curvature = static_cast<double>(lane["curvature"]);
+    for (auto& b : f.boundaries) {
+      b.points_base.clear();
+      for (const auto& p : b.points) b.points_base.push_back(f.base_to_camera * p);
+    }
   }
   return std::isfinite(f.plane_rms) && std::isfinite(f.lane.width) &&
          std::isfinite(f.lane.offset) && std::isfinite(f.lane.heading) &&
@@ -201,57 +223,62 @@ const FrameTruth* SequenceTruth::find(int index) const {
 }
 
 bool writeGroundTruth(const std::string& path, const SequenceTruth& truth, std::string& error) {
-  try {
-    cv::FileStorage fs(path, cv::FileStorage::WRITE | cv::FileStorage::FORMAT_JSON);
-    if (!fs.isOpened()) {
-      error = "cannot write " + path;
-      return false;
+  std::ofstream out(path);
+  if (!out) {
+    error = "cannot write " + path;
+    return false;
+  }
+  const auto number = [&out](double v) { writeNumber(out, v, "%.17g"); };
+  out << "{\n\"format\": " << kFormat << ",\n";
+  if (truth.has_mount) {
+    out << "\"mount\": ";
+    writeTransform(out, truth.mount);
+    out << ",\n";
+  }
+  out << "\"frames\": [";
+  for (size_t i = 0; i < truth.frames.size(); ++i) {
+    const FrameTruth& f = truth.frames[i];
+    out << (i ? ",\n" : "\n") << "{\"index\": " << f.index << ", \"plane_normal\": [";
+    number(f.normal.x());
+    out << ", ";
+    number(f.normal.y());
+    out << ", ";
+    number(f.normal.z());
+    out << "], \"plane_distance\": ";
+    number(f.distance);
+    out << ", \"plane_rms\": ";
+    number(f.plane_rms);
+    out << ", \"has_lane\": " << static_cast<int>(f.has_lane)
+        << ", \"lane_optional\": " << static_cast<int>(f.lane_optional);
+    if (f.has_vehicle_frame) {
+      out << ",\n \"base_to_camera\": ";
+      writeTransform(out, f.base_to_camera);
+      out << ",\n \"lane\": {\"valid\": " << static_cast<int>(f.lane.valid) << ", \"width\": ";
+      number(f.lane.width);
+      out << ", \"offset\": ";
+      number(f.lane.offset);
+      out << ", \"heading\": ";
+      number(f.lane.heading);
+      out << ", \"curvature\": ";
+      number(f.lane.curvature);
+      out << "}";
     }
-    fs << "format" << kFormat;
-    if (truth.has_mount) writeTransform(fs, "mount", truth.mount);
-    fs << "frames"
-       << "[";
-    for (const auto& f : truth.frames) {
-      fs << "{";
-      fs << "index" << f.index;
-      fs << "plane_normal"
-         << "[" << f.normal.x() << f.normal.y() << f.normal.z() << "]";
-      fs << "plane_distance" << f.distance;
-      fs << "plane_rms" << f.plane_rms;
-      fs << "has_lane" << static_cast<int>(f.has_lane);
-      fs << "lane_optional" << static_cast<int>(f.lane_optional);
-      writeLine(fs, "left", f.left);
-      writeLine(fs, "right", f.right);
-      fs << "boundaries"
-         << "[";
-      for (const auto& b : f.boundaries) {
-        fs << "{";
-        fs << "label" << boundaryLabelName(b.label);
-        fs << "kind" << boundaryKindName(b.kind);
-        fs << "style" << lineStyleName(b.style);
-        fs << "colour" << lineColourName(b.colour);
-        fs << "edge" << edgeTypeName(b.edge);
-        writeLine(fs, "points", b.points);
-        writeLine(fs, "points_base", b.points_base);
-        fs << "}";
-      }
-      fs << "]";
-      if (f.has_vehicle_frame) {
-        writeTransform(fs, "base_to_camera", f.base_to_camera);
-        fs << "lane"
-           << "{";
-        fs << "valid" << static_cast<int>(f.lane.valid);
-        fs << "width" << f.lane.width;
-        fs << "offset" << f.lane.offset;
-        fs << "heading" << f.lane.heading;
-        fs << "curvature" << f.lane.curvature;
-        fs << "}";
-      }
-      fs << "}";
+    out << ",\n \"boundaries\": [";
+    for (size_t j = 0; j < f.boundaries.size(); ++j) {
+      const TrueBoundary& b = f.boundaries[j];
+      out << (j ? ",\n  " : "\n  ") << "{\"label\": \"" << boundaryLabelName(b.label)
+          << "\", \"kind\": \"" << boundaryKindName(b.kind) << "\", \"style\": \""
+          << lineStyleName(b.style) << "\", \"colour\": \"" << lineColourName(b.colour)
+          << "\", \"edge\": \"" << edgeTypeName(b.edge) << "\", \"points\": ";
+      writeLine(out, b.points);
+      out << "}";
     }
-    fs << "]";
-  } catch (const cv::Exception& e) {
-    error = "cannot write " + path + ": " + e.what();
+    out << "]}";
+  }
+  out << "\n]\n}\n";
+  out.flush();
+  if (!out) {
+    error = "cannot write " + path;
     return false;
   }
   return true;

@@ -48,7 +48,9 @@ bool SequenceWriter::open(const std::string& dir, const SceneSettings& settings,
   dir_ = dir;
   settings_ = settings;
   K_ = K;
-  truth_.frames.clear();
+  truth_ = tools::SequenceTruth();
+  truth_.has_mount = true;
+  truth_.mount = nominalMount(settings);
   std::error_code ec;
   for (const char* sub : {SynthiaLayout::kRgb, SynthiaLayout::kDepth, SynthiaLayout::kLabels,
                           "GT/LANES", "CameraParams"}) {

@@ -2,7 +2,7 @@
  * @file ground_truth.h
  * @brief Per-frame lane ground truth of a sequence (GT/LANES/ground_truth.json).
  *
- * JSON written and read with cv::FileStorage (cv::FileStorage has no bool type: flags are 1/0):
+ * JSON (written compactly, read with cv::FileStorage; flags are 1/0):
  * @code
  * { "format": 2,
  *   "mount": { "translation": [x, y, z], "rotation": [qx, qy, qz, qw] },
@@ -10,13 +10,15 @@
  *     "index": 0,
  *     "plane_normal": [nx, ny, nz], "plane_distance": d, "plane_rms": r,
  *     "has_lane": 1, "lane_optional": 0,
- *     "left": [[x, y, z], ...], "right": [[x, y, z], ...],
- *     "boundaries": [ { "label": "ego_left", "kind": "paint", "style": "dashed",
- *                       "colour": "white", "edge": "none",
- *                       "points": [[x, y, z], ...], "points_base": [[x, y, z], ...] }, ... ],
  *     "base_to_camera": { "translation": [x, y, z], "rotation": [qx, qy, qz, qw] },
- *     "lane": { "valid": 1, "width": w, "offset": o, "heading": h, "curvature": k } }, ... ] }
+ *     "lane": { "valid": 1, "width": w, "offset": o, "heading": h, "curvature": k },
+ *     "boundaries": [ { "label": "ego_left", "kind": "paint", "style": "dashed",
+ *                       "colour": "white", "edge": "none", "points": [[x, y, z], ...] },
+ *                     ... ] }, ... ] }
  * @endcode
+ * Points are written to 0.1 mm. On reading, FrameTruth::left / right are the ego boundaries'
+ * points and TrueBoundary::points_base = base_to_camera * points (the file stores each point
+ * once, in the optical frame).
  *
  * **Camera optical frame** (x right, y down, z forward), metres: the plane, "left"/"right" and
  * every boundary's "points". The plane is n . p + d = 0 with n the unit normal pointing toward
@@ -27,8 +29,8 @@
  *   every gt_step along the road and at 5 lateral positions across the lane); plane_rms is the
  *   RMS distance of those surface samples from it.
  *
- * **Ego sides.** "left" / "right" are the ego lane's boundary lines (kept from format 1), near
- * to far, sampled every gt_step of road from gt_min_distance to gt_max_distance ahead, where the
+ * **Ego sides.** FrameTruth::left / right (format 1's "left" / "right") are the ego lane's
+ * boundary lines (the points of ego_left / ego_right), near to far, sampled every gt_step of road from gt_min_distance to gt_max_distance ahead, where the
  * boundary exists (a line interrupted by an intersection has no samples there; dash gaps are
  * part of a dashed line). Empty when that side has no boundary (kind "none"). The line is
  *   - paint: the centre of the painted line (of both lines for a double line);
@@ -38,7 +40,7 @@
  * **Boundaries.** Every boundary of the layout that exists in the frame, with its position
  * label (BoundaryLabel), kind (paint / road_edge), style, colour and what the edge is, its
  * polyline in the optical frame ("points", same sampling as above) and in base_link
- * ("points_base"). Labels follow the vehicle's current lane: the lane that holds the point of
+ * (TrueBoundary::points_base). Labels follow the vehicle's current lane: the lane that holds the point of
  * the road under the camera (base_link's origin); after a lane change they switch exactly when
  * that point crosses the line. A boundary has one label, the first that applies in the order
  * ego, next, road edge (a kerb bounding the ego lane is ego_right, not road_edge_right).
