@@ -536,7 +536,7 @@ cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double
       if (!road->profile().flat()) n = groundNormal(hit.s);
       if (urban) {
         vis *= 1.0 - kerbShadow(hit);
-        if (road->tramPartAt(hit.t) == 1) specular = 0.6;  // polished rail heads mirror the sky
+        if (road->tramPartAt(hit.t) == 1) specular = 0.75;  // polished rail heads mirror the sky
       }
     } else if (hit.kind == Hit::kKerbFace) {
       albedo = kerbAlbedo(hit.s, footprint) * 0.9;
@@ -561,7 +561,7 @@ cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double
     c = mul(albedo, ambient_light * (0.75 + 0.25 * n.y()) + sun_light * (ndl * vis));
     if (specular > 0.0) {  // a rough mirror: the reflected sky, blurred toward the horizon
       const cv::Vec3d mirrored = sky(dir - 2.0 * dir.dot(n) * n);
-      c = mix(c, mix(mirrored, s.sky_horizon, 0.6) * 0.95, specular);
+      c = mix(c, mix(mirrored, s.sky_horizon, 0.6) * 1.05, specular);
     }
     // aerial perspective in clear air, then fog
     c = mix(c, s.sky_horizon, 1.0 - std::exp(-hit.lambda / 1500.0));
