@@ -1,22 +1,16 @@
 // Ground truth JSON (ground_truth.h): format 2 round trip (boundaries, labels, vehicle frame,
 // lane model, mount), format 1 files of generator version 1, malformed files.
 #include <cstdio>
-#include <fstream>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
 #include "rgbd_lane_detector_tools/ground_truth.h"
+#include "temp_file.h"
 
 namespace rgbd_lane_detector {
 namespace tools {
 namespace {
-
-std::string writeText(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
 
 TrueBoundary boundary(BoundaryLabel label, BoundaryKind kind, double x) {
   TrueBoundary b;
@@ -104,7 +98,7 @@ TEST(GroundTruth, JsonRoundTrip) {
 
 TEST(GroundTruth, ReadsGeneratorVersionOneFiles) {
   // format 1 (cv::FileStorage JSON of generator version 1): ego lines only
-  const std::string path = writeText("rgbd_tools_gt_v1.json", R"({
+  const std::string path = writeTempFile("rgbd_tools_gt_v1.json", R"({
     "frames": [
       {"index": 0, "plane_normal": [0.0, -0.998629534, -0.0523359562], "plane_distance": 1.5,
        "has_lane": 1, "left": [[-1.8, 1.3, 3.0], [-1.8, 1.2, 5.0]],
@@ -141,7 +135,7 @@ TEST(GroundTruth, RefusesMalformedFiles) {
   SequenceTruth truth;
   std::string error;
   // well-formed first, so the failures below are the edits'
-  ASSERT_TRUE(readGroundTruth(writeText("gt_ok.json", head + ego + "]}]}"), truth, error))
+  ASSERT_TRUE(readGroundTruth(writeTempFile("gt_ok.json", head + ego + "]}]}"), truth, error))
       << error;
   EXPECT_NE(truth.frames[0].egoSide(true), nullptr);
   const auto edited = [&ego](const std::string& from, const std::string& to) {
@@ -155,7 +149,7 @@ TEST(GroundTruth, RefusesMalformedFiles) {
         head + edited("[[-1.8, 1.5, 3.0]]", "[]") + "]}]}",             // no points
         head + edited("[[-1.8, 1.5, 3.0]]", "[[-1.8, 1.5]]") + "]}]}",  // not 3D
         std::string(R"({"format": 3, "frames": []})")}) {                // a newer format
-    EXPECT_FALSE(readGroundTruth(writeText("gt_bad.json", bad), truth, error)) << bad;
+    EXPECT_FALSE(readGroundTruth(writeTempFile("gt_bad.json", bad), truth, error)) << bad;
     EXPECT_FALSE(error.empty());
   }
 }

@@ -37,35 +37,16 @@ Detection detectionFromResult(const Result& result) {
 }
 
 const char* outcomeName(Outcome o) {
-  switch (o) {
-    case Outcome::kTruePositive:
-      return "TP";
-    case Outcome::kPartial:
-      return "partial";
-    case Outcome::kWrong:
-      return "FP";
-    case Outcome::kMiss:
-      return "miss";
-  }
-  return "?";
+  static const char* const kNames[] = {"TP", "partial", "FP", "miss"};
+  const size_t i = static_cast<size_t>(o);
+  return i < 4 ? kNames[i] : "?";
 }
 
 const char* sideOutcomeName(SideOutcome o) {
-  switch (o) {
-    case SideOutcome::kNone:
-      return "none";
-    case SideOutcome::kCorrect:
-      return "correct";
-    case SideOutcome::kWrongKind:
-      return "wrong_kind";
-    case SideOutcome::kOffLine:
-      return "off_line";
-    case SideOutcome::kSpurious:
-      return "spurious";
-    case SideOutcome::kMissed:
-      return "missed";
-  }
-  return "?";
+  static const char* const kNames[] = {"none",     "correct",  "wrong_kind",
+                                       "off_line", "spurious", "missed"};
+  const size_t i = static_cast<size_t>(o);
+  return i < 6 ? kNames[i] : "?";
 }
 
 double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line,
