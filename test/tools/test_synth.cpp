@@ -343,6 +343,16 @@ TEST(Generator, VehicleFrameIsOnTheRoadUnderTheCamera) {
   const Eigen::Vector3d view = nominalMount(still).linear() * Eigen::Vector3d::UnitZ();
   EXPECT_NEAR(std::asin(-view.z()) * 180.0 / M_PI, still.pitch_deg, 1e-9);
   EXPECT_GT(view.x(), 0.99);
+  // it is the /tf_static of --bag: tf2 RPY(-roll, pitch, 0) of the body, then body -> optical
+  const double deg = M_PI / 180.0;
+  const Eigen::Matrix3d body =
+      (Eigen::AngleAxisd(still.pitch_deg * deg, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(-still.roll_deg * deg, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  const Eigen::Matrix3d optical = Eigen::Quaterniond(0.5, -0.5, 0.5, -0.5).toRotationMatrix();
+  EXPECT_TRUE(nominalMount(still).linear().isApprox(body * optical, 1e-12));
+  // a positive roll raises the right side: the optical x axis (right) points up
+  EXPECT_GT((nominalMount(still).linear() * Eigen::Vector3d::UnitX()).z(), 0.03);
 }
 
 TEST(Generator, KerbIsARaisedFaceAtTheBoundary) {

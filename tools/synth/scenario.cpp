@@ -104,7 +104,7 @@ std::vector<SettingField> settingFields(SceneSettings& s) {
       {"supersample", T::kInt, &s.supersample, "colour samples per pixel side"},
       {"camera_height", T::kDouble, &s.camera_height, "camera above the road (m)"},
       {"pitch_deg", T::kDouble, &s.pitch_deg, "camera pitch, positive down (deg)"},
-      {"roll_deg", T::kDouble, &s.roll_deg, "camera roll (deg)"},
+      {"roll_deg", T::kDouble, &s.roll_deg, "camera roll, right side up (deg)"},
       {"pitch_wobble_deg", T::kDouble, &s.pitch_wobble_deg, "pitch oscillation amplitude (deg)"},
       {"roll_wobble_deg", T::kDouble, &s.roll_wobble_deg, "roll oscillation amplitude (deg)"},
       {"wobble_period", T::kDouble, &s.wobble_period, "distance per wobble cycle (m)"},

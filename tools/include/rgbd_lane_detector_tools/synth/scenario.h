@@ -74,7 +74,7 @@ struct SceneSettings {
   // --- camera motion ---
   double camera_height = 1.5;
   double pitch_deg = 3.0;  ///< positive looks down
-  double roll_deg = 0.0;
+  double roll_deg = 0.0;   ///< positive raises the image's right side (REP-103 roll = -roll_deg)
   double pitch_wobble_deg = 0.3;  ///< amplitude of a sinusoidal pitch change (road bumps)
   double roll_wobble_deg = 0.4;
   double wobble_period = 37.0;    ///< m travelled per wobble cycle
