@@ -284,6 +284,31 @@ TEST(Scoring, DetectionFromResultUsesReportedSides) {
   EXPECT_FALSE(d.left_reported);
 }
 
+TEST(Scoring, LateralErrorAtDistancesInBaseLink) {
+  FrameTruth t = straightTruth();
+  t.has_vehicle_frame = true;  // level camera 1.5 m above base_link
+  t.base_to_camera.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  t.base_to_camera.translation() = Eigen::Vector3d(0, 0, kHeight);
+  Detection d = perfect();  // left 0.1 m right of its line, right 0.2 m left, from 5 to 20 m
+  d.left[2].x() += 0.3;     // at 11 m: 0.4 m off
+  const FrameScore s = scoreFrame(d, t);
+  EXPECT_NEAR(s.left.lateral_error[0], 0.1, 1e-9);   // 5 m
+  EXPECT_NEAR(s.left.lateral_error[1], 0.1 + 0.3 * 2.0 / 3.0, 1e-9);  // 10 m: 2/3 toward 11 m
+  EXPECT_NEAR(s.left.lateral_error[2], 0.1, 1e-9);   // 20 m
+  EXPECT_TRUE(std::isnan(s.left.lateral_error[3]));  // the trace ends at 20 m: not 40 m
+  EXPECT_NEAR(s.right.lateral_error[2], 0.2, 1e-9);
+  ScoreSummary sum;
+  sum.add(s, 1.0);
+  EXPECT_EQ(sum.lateral_errors[0].size(), 2u);
+  EXPECT_TRUE(sum.lateral_errors[3].empty());
+  EXPECT_NEAR(sum.lateralPercentile(0, 50), 0.1, 1e-9);
+  EXPECT_NEAR(sum.lateralPercentile(0, 95), 0.2, 1e-9);
+  EXPECT_TRUE(std::isnan(sum.lateralPercentile(3, 50)));
+  // without a vehicle frame (format 1 truth) nothing is measured
+  t.has_vehicle_frame = false;
+  EXPECT_TRUE(std::isnan(scoreFrame(d, t).left.lateral_error[0]));
+}
+
 TEST(Scoring, LaneOptionalFramesDoNotCountMisses) {
   FrameTruth optional = straightTruth();
   optional.lane_optional = true;  // an intersection ahead

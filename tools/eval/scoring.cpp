@@ -72,10 +72,44 @@ double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector
   return best;
 }
 
+namespace {
+
+// y(x) of a polyline sorted by x, linear between points; NaN outside.
+double interpolateY(std::vector<Eigen::Vector2d>& xy, double x) {
+  std::sort(xy.begin(), xy.end(),
+            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+  for (size_t i = 0; i + 1 < xy.size(); ++i) {
+    if (x < xy[i].x() || x > xy[i + 1].x()) continue;
+    const double dx = xy[i + 1].x() - xy[i].x();
+    const double w = dx > 0 ? (x - xy[i].x()) / dx : 0.0;
+    return xy[i].y() + w * (xy[i + 1].y() - xy[i].y());
+  }
+  return kNaN;
+}
+
+}  // namespace
+
+double lateralErrorAt(const std::vector<Eigen::Vector3d>& points, const TrueBoundary& truth,
+                      const FrameTruth& frame, double x) {
+  if (!frame.has_vehicle_frame) return kNaN;
+  std::vector<Eigen::Vector2d> reported, line;
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3d b = frame.base_to_camera * p;
+    reported.emplace_back(b.x(), b.y());
+  }
+  for (const auto& p : truth.points) {
+    const Eigen::Vector3d b = frame.base_to_camera * p;
+    line.emplace_back(b.x(), b.y());
+  }
+  return std::fabs(interpolateY(reported, x) - interpolateY(line, x));
+}
+
 SideScore scoreSide(const std::vector<Eigen::Vector3d>& points, bool reported, BoundaryKind kind,
                     double confidence, const TrueBoundary* truth, const FrameTruth& frame,
                     const ScoringRules& rules) {
   SideScore s;
+  std::fill(std::begin(s.lateral_error), std::end(s.lateral_error), kNaN);
   s.truth = truth != nullptr;
   if (truth) s.true_kind = truth->kind;
   s.reported = reported;
@@ -96,6 +130,9 @@ SideScore scoreSide(const std::vector<Eigen::Vector3d>& points, bool reported, B
     if (d <= rules.max_lateral) ++s.inliers;
   }
   if (truth && s.points) s.mean_lateral = sum / s.points;
+  if (truth)
+    for (int k = 0; k < kNumLateralDistances; ++k)
+      s.lateral_error[k] = lateralErrorAt(points, *truth, frame, kLateralDistances[k]);
   s.on_line = truth && s.points >= rules.min_points &&
               s.inliers >= rules.min_inlier_fraction * s.points - 1e-9;
   if (!truth)
@@ -171,7 +208,19 @@ void ScoreSummary::add(const FrameScore& s, double ms) {
       ++sides_true;
       sides_true_correct += side->correct();
     }
+    for (int k = 0; k < kNumLateralDistances; ++k)
+      if (std::isfinite(side->lateral_error[k]))
+        lateral_errors[k].push_back(side->lateral_error[k]);
   }
+}
+
+double ScoreSummary::lateralPercentile(int k, double q) const {
+  std::vector<double> v = lateral_errors[k];
+  if (v.empty()) return kNaN;
+  const size_t rank = static_cast<size_t>(std::ceil(q / 100.0 * v.size()));
+  const size_t i = std::min(v.size() - 1, rank > 0 ? rank - 1 : 0);
+  std::nth_element(v.begin(), v.begin() + i, v.end());
+  return v[i];
 }
 
 double ScoreSummary::meanAngleError() const {

@@ -33,7 +33,9 @@
  * **Per side** over a sequence: precision = correct sides / reported sides (all frames);
  * recall = correct sides / true sides (frames that require a lane); kind confusion = reported
  * kind against true kind (paint reported on a road edge, road edge on paint, either where the
- * truth has none).
+ * truth has none); lateral error at 5, 10, 20 and 40 m ahead (issue 14, OpenLane-style near /
+ * far x error): |y_reported(x) - y_true(x)| in base_link, both lines interpolated linearly
+ * between their points, over every reported side with a true boundary that spans that x.
  */
 #pragma once
 
@@ -47,6 +49,10 @@
 
 namespace rgbd_lane_detector {
 namespace tools {
+
+/// Forward distances (m, base_link x) of the lateral errors.
+constexpr int kNumLateralDistances = 4;
+constexpr double kLateralDistances[kNumLateralDistances] = {5.0, 10.0, 20.0, 40.0};
 
 /// Thresholds of the rules (METHOD.md section 6 values by default).
 struct ScoringRules {
@@ -102,6 +108,8 @@ struct SideScore {
   double mean_lateral = 0.0;  ///< mean lateral distance of the finite points (m), NaN if none
   bool on_line = false;       ///< >= min_points with >= min_inlier_fraction inliers
   SideOutcome outcome = SideOutcome::kNone;
+  /// lateralErrorAt() at kLateralDistances (NaN where not measured)
+  double lateral_error[kNumLateralDistances];
   bool correct() const { return outcome == SideOutcome::kCorrect; }
   bool wrong() const {
     return outcome == SideOutcome::kWrongKind || outcome == SideOutcome::kOffLine ||
@@ -130,6 +138,14 @@ struct FrameScore {
  */
 double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line,
                        const Eigen::Vector3d& normal, double distance);
+
+/**
+ * @brief Lateral error of a side's points at forward distance @p x in base_link (the frame's
+ * base_to_camera): |y_points(x) - y_truth(x)|, both polylines interpolated linearly along x.
+ * @return NaN when either does not reach @p x (no extrapolation), or without a vehicle frame.
+ */
+double lateralErrorAt(const std::vector<Eigen::Vector3d>& points, const TrueBoundary& truth,
+                      const FrameTruth& frame, double x);
 
 /**
  * @brief Score one side.
@@ -162,6 +178,8 @@ struct ScoreSummary {
   int sides_true = 0, sides_true_correct = 0;   ///< frames that require a lane
   /// confusion[true][reported]: true 0 paint, 1 road edge, 2 none; reported 0 paint, 1 edge
   int confusion[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+  /// every measured lateral error per distance (m)
+  std::vector<double> lateral_errors[kNumLateralDistances];
 
   void add(const FrameScore& s, double ms);
   double tpPercent() const { return percent(tp, required); }
@@ -175,6 +193,9 @@ struct ScoreSummary {
   double meanMs() const { return frames ? sum_ms / frames : 0.0; }
   double sidePrecision() const { return percent(sides_correct, sides_reported); }
   double sideRecall() const { return percent(sides_true_correct, sides_true); }
+  /// Percentile @p q (0-100, nearest rank) of the lateral errors at distance index @p k (NaN
+  /// when none).
+  double lateralPercentile(int k, double q) const;
   /// 100 a / b, NaN when b is 0.
   static double percent(int a, int b);
 };
