@@ -380,17 +380,16 @@ cv::Vec3d FrameContext::groundAlbedo(const Hit& hit, double footprint) const {
   const int tram = urban ? road->tramPartAt(t) : 0;
   if (tram == 1) return cv::Vec3d(0.30, 0.30, 0.32);  // rail head steel (specular in shade())
   if (tram == 2) return cv::Vec3d(0.05, 0.05, 0.05);  // flangeway: a dark groove
-  if (tram == 3) {  // granite setts between the rails: 0.2 x 0.1 m, staggered rows, joints
-    const double row = std::floor(t / 0.1);
-    const double col = std::floor(sr / 0.2 + 0.5 * std::fmod(std::fabs(row), 2.0));
-    const double joint = std::min({std::fabs(t - 0.1 * row), std::fabs(t - 0.1 * (row + 1)),
-                                   std::fabs(sr / 0.2 + 0.5 * std::fmod(std::fabs(row), 2.0) - col),
-                                   std::fabs(sr / 0.2 + 0.5 * std::fmod(std::fabs(row), 2.0) - col - 1)});
+  if (tram == 3) {  // granite setts between the rails: 0.2 x 0.1 m, staggered rows, 1 cm joints
+    const double v = t / 0.1, row = std::floor(v);
+    const double u = sr / 0.2 + 0.5 * std::fmod(std::fabs(row), 2.0), col = std::floor(u);
+    const double joint = std::min(std::min(v - row, row + 1.0 - v) * 0.1,
+                                  std::min(u - col, col + 1.0 - u) * 0.2);
     const double sett = 0.85 + 0.3 * hashUniform(seed + 41, static_cast<uint32_t>(row + 1e6),
                                                   static_cast<uint32_t>(col + 1e6));
     const double detail = std::min(1.0, 0.03 / footprint);  // the pattern fades with distance
-    const double pattern = (joint < 0.06 ? 0.55 : sett) * (0.9 + 0.2 * grain);
-    a = s.asphalt_albedo * 1.15 * (detail * pattern + (1.0 - detail) * 0.92);
+    const double pattern = (joint < 0.005 ? 0.6 : sett) * (0.9 + 0.2 * grain);
+    a = s.asphalt_albedo * 1.15 * (detail * pattern + (1.0 - detail) * 0.95);
   }
   if (urban && s.right_boundary == BoundaryType::kAsphaltEdge) {
     // gravel spilled onto the last 15 cm of asphalt
@@ -559,9 +558,10 @@ cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double
     const double ndl = std::max(0.0, n.dot(sun));
     if (ndl > 0 && vis > 0) vis *= sunVisibility(hit.point, self);
     c = mul(albedo, ambient_light * (0.75 + 0.25 * n.y()) + sun_light * (ndl * vis));
-    if (specular > 0.0) {  // a rough mirror: the reflected sky, blurred toward the horizon
-      const cv::Vec3d mirrored = sky(dir - 2.0 * dir.dot(n) * n);
-      c = mix(c, mix(mirrored, s.sky_horizon, 0.6) * 1.05, specular);
+    if (specular > 0.0) {  // a rough steel mirror: the reflected sky's brightness
+      const cv::Vec3d sky_seen = mix(sky(dir - 2.0 * dir.dot(n) * n), s.sky_horizon, 0.6);
+      const double lum = 0.3 * sky_seen[0] + 0.59 * sky_seen[1] + 0.11 * sky_seen[2];
+      c = mix(c, cv::Vec3d(0.97, 0.99, 1.0) * (1.1 * lum), specular);
     }
     // aerial perspective in clear air, then fog
     c = mix(c, s.sky_horizon, 1.0 - std::exp(-hit.lambda / 1500.0));
