@@ -365,10 +365,11 @@ int main(int argc, char** argv) {
         lateral << "| " << in.name << " | " << modes[m].name;
         for (int k = 0; k < tools::kNumLateralDistances; ++k) lateral << " | " << lateralCell(s, k);
         lateral << " |\n";
-        std::printf("%-22s %-16s frames %4d (%4d need a lane)  TP %5.1f%%  partial %5.1f%%  "
-                    "FP %5.1f%%  miss %5.1f%%\n",
-                    in.name.c_str(), modes[m].name.c_str(), s.frames, s.required, s.tpPercent(),
-                    s.partialPercent(), s.fpPercent(), s.missPercent());
+        std::printf("%-22s %-16s frames %4d (%4d need a lane)  TP %5s%%  partial %5s%%  "
+                    "FP %5s%%  miss %5s%%\n",
+                    in.name.c_str(), modes[m].name.c_str(), s.frames, s.required,
+                    fmt("%.1f", s.tpPercent()).c_str(), fmt("%.1f", s.partialPercent()).c_str(),
+                    fmt("%.1f", s.fpPercent()).c_str(), fmt("%.1f", s.missPercent()).c_str());
       } else {
         any_real = true;
         const RealStats& st = reals[m];
@@ -402,8 +403,9 @@ int main(int argc, char** argv) {
     md << "#### Synthetic sequences: sides\n\n"
        << "Per reported side (left and right counted apart): precision = correct / reported "
           "(all frames); recall = correct / true sides of the lane frames; the last three "
-          "columns count sides reported with a wrong kind (paint on a kerb, rail or asphalt "
-          "edge; a road edge on paint) and sides reported where the ego lane has no boundary."
+          "columns count reported sides by their kind against the true kind of that side, on "
+          "its line or not (paint on a kerb, rail or asphalt edge; a road edge on paint), and "
+          "sides reported where the ego lane has no boundary."
           "\n\n"
        << sides.str() << "\n";
     md << "#### Synthetic sequences: lateral error of the reported ego sides\n\n"
