@@ -6,7 +6,7 @@
 #  3. runs roscore (own port), the LaneDetectorNodelet in its own manager
 #     (launch/lane_detector.launch, config/synthetic.yaml = mode improved), demo_probe (latency,
 #     overlay video), rosbag record of the outputs, and rosbag play --clock of the bag,
-#  4. prints the report: frames in/out, TP/FP against the ground truth (METHOD.md section 6),
+#  4. prints the report: frames in/out, TP/partial/FP against the ground truth (scoring.h),
 #     latency from input to output, the same sequence offline in improved and paper mode, and
 #     where the overlay video and images are.
 # Exits non-zero when the graph produced no output. Every process it starts is stopped on exit.
@@ -218,7 +218,7 @@ echo "$report"
 echo "offline, the same frames through the core without ROS (run_dataset):"
 echo "  improved ($(basename "$CONFIG")): ${offline_improved:-n/a}"
 echo "  paper    (Params::paper()): ${offline_paper:-n/a}"
-tpfp() { echo "$1" | grep -oE 'TP [0-9.]+%  FP [0-9.]+%' | head -n 1; }
+tpfp() { echo "$1" | grep -oE 'TP [0-9.]+%  partial [0-9.]+%  FP [0-9.]+%' | head -n 1; }
 graph_tpfp=$(tpfp "$report")
 if [ -n "$graph_tpfp" ] && [ "$graph_tpfp" = "$(tpfp "$offline_improved")" ]; then
   echo "  check: the ROS graph scores exactly as the offline run of the same parameters"

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Table-1 evaluation of the lane detector (METHOD.md section 6).
+# Table-1 evaluation of the lane detector (METHOD.md section 6, generalised to sides scored on
+# their own with a kind: tools/include/rgbd_lane_detector_tools/scoring.h).
 #  1. generates the standard synthetic scenario set into build/data/ (skipped per sequence when
 #     it already holds exactly these settings),
 #  2. scores the modes paper, improved and their colour-only ablations on every sequence, and
@@ -27,10 +28,14 @@ RESULTS="${RESULTS:-$ROOT/docs/RESULTS.md}"
 IMAGES="${IMAGES:-$ROOT/docs/images}"
 PYTHON=/usr/bin/python3
 
-# scenario:sensor pairs of the standard set
+# scenario:sensor pairs of the standard set: the highway set, then the real-street failures
+# (kerb, tram rails, unpainted asphalt edge, intersections, crest and sag, yellow centre line)
+# and a lane change
 SEQUENCES=(
   summer:clean cloudy:clean fog:clean overpass:clean solid:clean dashed:clean shadows:clean
   lane_like_objects:clean no_markings:clean curve:clean summer:kinect summer:sparse
+  kerb:clean tram_rails:clean road_edge:clean intersection:clean crest_sag:clean
+  yellow_centre:clean lane_change:clean
 )
 
 # shellcheck source=find_tool.sh

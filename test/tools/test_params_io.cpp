@@ -1,20 +1,14 @@
 // Detector parameter files (ROS-style YAML without a directive) and modes.
 #include <cstdio>
-#include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "rgbd_lane_detector_tools/params_io.h"
+#include "temp_file.h"
 
 namespace rgbd_lane_detector {
 namespace tools {
 namespace {
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::ofstream(path) << text;
-  return path;
-}
 
 TEST(ParamsIo, Modes) {
   Params p;
@@ -27,7 +21,7 @@ TEST(ParamsIo, Modes) {
 }
 
 TEST(ParamsIo, YamlOverridesWithCommentsBoolsAndEnums) {
-  const std::string path = writeTemp("rgbd_params.yaml",
+  const std::string path = writeTempFile("rgbd_params.yaml",
                                      "# lane detector\n"
                                      "tau_c: 120  # grey threshold\n"
                                      "use_depth: false\n"
@@ -56,7 +50,7 @@ TEST(ParamsIo, BadValuesAndFilesAreErrors) {
   Params p = Params::paper();
   const Params before = p;
   std::string error;
-  const std::string bad = writeTemp("rgbd_params_bad.yaml", "alpha: 0.3\ntau_c: abc\n");
+  const std::string bad = writeTempFile("rgbd_params_bad.yaml", "alpha: 0.3\ntau_c: abc\n");
   EXPECT_FALSE(loadParamsYaml(bad, p, error));
   EXPECT_NE(error.find("tau_c"), std::string::npos);
   EXPECT_EQ(p.alpha, before.alpha);  // nothing applied on error
@@ -75,7 +69,7 @@ TEST(ParamsIo, YamlRoundTrip) {
   p.tau_c = 111;
   p.beta = 0.123;
   p.use_depth = false;
-  const std::string path = writeTemp("rgbd_params_rt.yaml", paramsToYaml(p));
+  const std::string path = writeTempFile("rgbd_params_rt.yaml", paramsToYaml(p));
   Params back = Params::paper();
   std::string error;
   ASSERT_TRUE(loadParamsYaml(path, back, error)) << error;

@@ -1,4 +1,6 @@
-// METHOD.md section 6 scoring on hand-made detections: every TP / FP / miss branch.
+// Scoring rules of scoring.h on hand-made detections: every side outcome (correct, wrong kind,
+// off the line, spurious, missed) and every frame outcome (TP, partial, FP, miss), lane-optional
+// frames and the per-side statistics.
 #include <cmath>
 #include <limits>
 
@@ -15,17 +17,36 @@ namespace {
 constexpr double kHeight = 1.5;
 constexpr double kHalfLane = 1.8;
 
-// Straight road under a level camera: plane y = 1.5 (optical frame, y down), lines x = -+1.8.
-FrameTruth straightTruth() {
+TrueBoundary line(BoundaryLabel label, double x, BoundaryKind kind = BoundaryKind::kPaint) {
+  TrueBoundary b;
+  b.label = label;
+  b.kind = kind;
+  b.style = kind == BoundaryKind::kPaint ? LineStyle::kSolid : LineStyle::kRoadEdge;
+  b.colour = kind == BoundaryKind::kPaint ? LineColour::kWhite : LineColour::kNone;
+  for (double z = 3.0; z <= 60.0; z += 0.5) b.points.emplace_back(x, kHeight, z);
+  return b;
+}
+
+// Straight road under a level camera: plane y = 1.5 (optical frame, y down), ego lines x = -+1.8
+// of the given kinds.
+FrameTruth straightTruth(BoundaryKind left = BoundaryKind::kPaint,
+                         BoundaryKind right = BoundaryKind::kPaint) {
   FrameTruth t;
   t.index = 0;
   t.normal = Eigen::Vector3d(0, -1, 0);
   t.distance = kHeight;
-  t.has_lane = true;
-  for (double z = 3.0; z <= 60.0; z += 0.5) {
-    t.left.emplace_back(-kHalfLane, kHeight, z);
-    t.right.emplace_back(kHalfLane, kHeight, z);
-  }
+  t.boundaries = {line(BoundaryLabel::kEgoLeft, -kHalfLane, left),
+                  line(BoundaryLabel::kEgoRight, kHalfLane, right),
+                  line(BoundaryLabel::kNextLeft, -3 * kHalfLane)};
+  t.syncEgoLines();
+  return t;
+}
+
+// Truth without the right ego boundary (an unpainted side).
+FrameTruth leftOnlyTruth() {
+  FrameTruth t = straightTruth();
+  t.boundaries.erase(t.boundaries.begin() + 1);
+  t.syncEgoLines();
   return t;
 }
 
@@ -35,11 +56,16 @@ std::vector<Eigen::Vector3d> sidePoints(double x, int n, double error = 0.0) {
   return pts;
 }
 
-Detection perfect() {
+Detection planeOnly() {
   Detection d;
   d.plane_valid = true;
   d.normal = Eigen::Vector3d(0, -1, 0);
   d.distance = kHeight;
+  return d;
+}
+
+Detection perfect() {
+  Detection d = planeOnly();
   d.left_reported = d.right_reported = true;
   d.left = sidePoints(-kHalfLane, 6, 0.1);
   d.right = sidePoints(kHalfLane, 6, -0.2);
@@ -55,11 +81,14 @@ TEST(Scoring, PerfectDetectionIsTruePositive) {
   const FrameScore s = scoreFrame(perfect(), straightTruth());
   EXPECT_EQ(s.outcome, Outcome::kTruePositive);
   EXPECT_TRUE(s.reported);
+  EXPECT_TRUE(s.lane_required);
   EXPECT_NEAR(s.angle_error_deg, 0.0, 1e-9);
   EXPECT_NEAR(s.offset_error, 0.0, 1e-12);
   EXPECT_EQ(s.left.points, 6);
   EXPECT_EQ(s.left.inliers, 6);
   EXPECT_NEAR(s.left.mean_lateral, 0.1, 1e-9);
+  EXPECT_EQ(s.left.outcome, SideOutcome::kCorrect);
+  EXPECT_EQ(s.right.outcome, SideOutcome::kCorrect);
 }
 
 TEST(Scoring, PlaneAngleLimit) {
@@ -68,15 +97,16 @@ TEST(Scoring, PlaneAngleLimit) {
   EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kTruePositive);
   d.normal = tilted(3.1);
   const FrameScore s = scoreFrame(d, straightTruth());
-  EXPECT_EQ(s.outcome, Outcome::kFalsePositive);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);  // sides reported with a wrong plane
   EXPECT_NEAR(s.angle_error_deg, 3.1, 1e-9);
+  EXPECT_TRUE(s.left.correct());  // the sides themselves are right
 }
 
 TEST(Scoring, NormalMustPointTowardTheCamera) {
   Detection d = perfect();
   d.normal = -d.normal;  // same plane, wrong orientation
   d.distance = -d.distance;
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kFalsePositive);
+  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kWrong);
 }
 
 TEST(Scoring, PlaneOffsetLimit) {
@@ -85,39 +115,116 @@ TEST(Scoring, PlaneOffsetLimit) {
   EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kTruePositive);
   d.distance = kHeight - 0.16;
   const FrameScore s = scoreFrame(d, straightTruth());
-  EXPECT_EQ(s.outcome, Outcome::kFalsePositive);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
   EXPECT_NEAR(s.offset_error, 0.16, 1e-12);
+}
+
+TEST(Scoring, SidesWithoutPlaneAreWrong) {
+  Detection d = perfect();
+  d.plane_valid = false;
+  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kWrong);
+  d.right_reported = false;  // one correct side, no plane: still wrong
+  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kWrong);
 }
 
 TEST(Scoring, AtLeastFivePointsPerSide) {
   Detection d = perfect();
   d.right = sidePoints(kHalfLane, 4);
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kFalsePositive);
+  FrameScore s = scoreFrame(d, straightTruth());
+  EXPECT_EQ(s.right.outcome, SideOutcome::kOffLine);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
   d.right = sidePoints(kHalfLane, 5);
   EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kTruePositive);
   // points without depth do not count
   const double nan = std::numeric_limits<double>::quiet_NaN();
   d.right.back() = Eigen::Vector3d(nan, nan, nan);
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kFalsePositive);
+  s = scoreFrame(d, straightTruth());
+  EXPECT_EQ(s.right.points, 4);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
 }
 
 TEST(Scoring, EightyPercentWithinThirtyCentimetres) {
   Detection d = perfect();
   d.left = sidePoints(-kHalfLane, 5);
-  d.left[0].x() += 0.5;  // 4 of 5 = 80%: still TP
+  d.left[0].x() += 0.5;  // 4 of 5 = 80%: still correct
   EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kTruePositive);
   d.left[1].x() -= 0.31;  // 3 of 5
   const FrameScore s = scoreFrame(d, straightTruth());
-  EXPECT_EQ(s.outcome, Outcome::kFalsePositive);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
   EXPECT_EQ(s.left.inliers, 3);
-  EXPECT_FALSE(s.left.ok);
-  EXPECT_TRUE(s.right.ok);
+  EXPECT_EQ(s.left.outcome, SideOutcome::kOffLine);
+  EXPECT_TRUE(s.right.correct());
 }
 
 TEST(Scoring, SidesAreNotInterchangeable) {
   Detection d = perfect();
   std::swap(d.left, d.right);
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kFalsePositive);
+  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kWrong);
+}
+
+TEST(Scoring, OneCorrectSideIsPartial) {
+  Detection d = perfect();
+  d.right_reported = false;
+  const FrameScore s = scoreFrame(d, straightTruth());
+  EXPECT_EQ(s.outcome, Outcome::kPartial);
+  EXPECT_EQ(s.right.outcome, SideOutcome::kMissed);
+  EXPECT_TRUE(s.left.correct());
+  // a correct side with a good plane where the truth has only that side: TP
+  EXPECT_EQ(scoreFrame(d, leftOnlyTruth()).outcome, Outcome::kTruePositive);
+}
+
+TEST(Scoring, KerbReportedAsPaintIsFalsePositive) {
+  const FrameTruth kerb = straightTruth(BoundaryKind::kPaint, BoundaryKind::kRoadEdge);
+  Detection d = perfect();  // both sides reported as paint, on the true lines
+  FrameScore s = scoreFrame(d, kerb);
+  EXPECT_EQ(s.right.outcome, SideOutcome::kWrongKind);
+  EXPECT_TRUE(s.right.on_line);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
+  d.right_kind = BoundaryKind::kRoadEdge;
+  s = scoreFrame(d, kerb);
+  EXPECT_EQ(s.outcome, Outcome::kTruePositive);
+  // and the other way round: paint reported as a road edge
+  d.left_kind = BoundaryKind::kRoadEdge;
+  s = scoreFrame(d, kerb);
+  EXPECT_EQ(s.left.outcome, SideOutcome::kWrongKind);
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
+}
+
+TEST(Scoring, SideWhereTheTruthHasNoneIsFalsePositive) {
+  const FrameTruth t = leftOnlyTruth();
+  const FrameScore s = scoreFrame(perfect(), t);
+  EXPECT_EQ(s.right.outcome, SideOutcome::kSpurious);
+  EXPECT_FALSE(s.right.truth);
+  EXPECT_TRUE(std::isnan(s.right.mean_lateral));
+  EXPECT_EQ(s.outcome, Outcome::kWrong);
+}
+
+TEST(Scoring, PlaneAloneIsNoLaneReport) {
+  FrameTruth none = straightTruth();
+  none.boundaries.clear();  // no_markings: the ego lane has no boundary
+  none.syncEgoLines();
+  EXPECT_FALSE(none.has_lane);
+  FrameScore s = scoreFrame(planeOnly(), none);
+  EXPECT_EQ(s.outcome, Outcome::kMiss);
+  EXPECT_FALSE(s.reported);
+  EXPECT_TRUE(s.plane_ok);  // scored on its own
+  EXPECT_FALSE(s.lane_required);
+  EXPECT_EQ(scoreFrame(perfect(), none).outcome, Outcome::kWrong);
+  // on a marked road a plane alone is a miss too
+  s = scoreFrame(planeOnly(), straightTruth());
+  EXPECT_EQ(s.outcome, Outcome::kMiss);
+  EXPECT_TRUE(s.plane_valid);
+}
+
+TEST(Scoring, NothingReportedIsAMiss) {
+  Detection d;
+  const FrameScore s = scoreFrame(d, straightTruth());
+  EXPECT_EQ(s.outcome, Outcome::kMiss);
+  EXPECT_FALSE(s.reported);
+  EXPECT_TRUE(std::isnan(s.angle_error_deg));
+  // points of a side the detector does not report are not a report
+  d.left = sidePoints(-kHalfLane, 6);
+  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kMiss);
 }
 
 TEST(Scoring, LateralDistanceIsMeasuredInTheRoadPlane) {
@@ -145,57 +252,30 @@ TEST(Scoring, RotationInvariant) {
   Detection d = perfect();
   t.normal = R * t.normal;
   d.normal = R * d.normal;
-  for (auto* line : {&t.left, &t.right, &d.left, &d.right})
-    for (auto& p : *line) p = R * p;
+  for (auto& b : t.boundaries)
+    for (auto& p : b.points) p = R * p;
+  t.syncEgoLines();
+  for (auto* side : {&d.left, &d.right})
+    for (auto& p : *side) p = R * p;
   EXPECT_EQ(scoreFrame(d, t).outcome, Outcome::kTruePositive);
   d.left[0] += 0.5 * (R * Eigen::Vector3d::UnitX());  // lateral outlier 1 of 6
   d.left[1] += 0.5 * (R * Eigen::Vector3d::UnitX());  // 2 of 6 -> 67% < 80%
-  EXPECT_EQ(scoreFrame(d, t).outcome, Outcome::kFalsePositive);
-}
-
-TEST(Scoring, NothingReportedIsAMiss) {
-  Detection d;
-  const FrameScore s = scoreFrame(d, straightTruth());
-  EXPECT_EQ(s.outcome, Outcome::kMiss);
-  EXPECT_FALSE(s.reported);
-  EXPECT_TRUE(std::isnan(s.angle_error_deg));
-  // points of a side the detector does not report are not a report
-  d.left = sidePoints(-kHalfLane, 6);
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kMiss);
-}
-
-TEST(Scoring, MarkersWithoutPlaneAreFalsePositive) {
-  Detection d = perfect();
-  d.plane_valid = false;
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kFalsePositive);
-  d.right_reported = false;
-  d.right.clear();
-  EXPECT_EQ(scoreFrame(d, straightTruth()).outcome, Outcome::kFalsePositive);
-}
-
-TEST(Scoring, AnyReportWithoutMarkingsIsFalsePositive) {
-  FrameTruth t = straightTruth();
-  t.has_lane = false;
-  t.left.clear();
-  t.right.clear();
-  EXPECT_EQ(scoreFrame(perfect(), t).outcome, Outcome::kFalsePositive);
-  Detection plane_only;
-  plane_only.plane_valid = true;
-  plane_only.normal = Eigen::Vector3d(0, -1, 0);
-  plane_only.distance = kHeight;
-  EXPECT_EQ(scoreFrame(plane_only, t).outcome, Outcome::kFalsePositive);
-  EXPECT_EQ(scoreFrame(Detection(), t).outcome, Outcome::kMiss);
+  EXPECT_EQ(scoreFrame(d, t).outcome, Outcome::kWrong);
 }
 
 TEST(Scoring, DetectionFromResultUsesReportedSides) {
   Result r;
   r.status = Status::kOk;
   r.left.found = true;
+  r.left.kind = BoundaryKind::kRoadEdge;
+  r.left.confidence = 0.75f;
   r.left.points = {Eigen::Vector3f(-1.8f, 1.5f, 6.f)};
   r.right.found = false;
   r.right.points = {Eigen::Vector3f(1.8f, 1.5f, 6.f)};
   Detection d = detectionFromResult(r);
   EXPECT_TRUE(d.left_reported);
+  EXPECT_EQ(d.left_kind, BoundaryKind::kRoadEdge);
+  EXPECT_NEAR(d.left_confidence, 0.75, 1e-7);
   EXPECT_FALSE(d.right_reported);
   EXPECT_EQ(d.left.size(), 1u);
   EXPECT_TRUE(d.right.empty());
@@ -204,51 +284,90 @@ TEST(Scoring, DetectionFromResultUsesReportedSides) {
   EXPECT_FALSE(d.left_reported);
 }
 
+TEST(Scoring, LateralErrorAtDistancesInBaseLink) {
+  FrameTruth t = straightTruth();
+  t.has_vehicle_frame = true;  // level camera 1.5 m above base_link
+  t.base_to_camera.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  t.base_to_camera.translation() = Eigen::Vector3d(0, 0, kHeight);
+  Detection d = perfect();  // left 0.1 m right of its line, right 0.2 m left, from 5 to 20 m
+  d.left[2].x() += 0.3;     // at 11 m: 0.4 m off
+  const FrameScore s = scoreFrame(d, t);
+  EXPECT_NEAR(s.left.lateral_error[0], 0.1, 1e-9);   // 5 m
+  EXPECT_NEAR(s.left.lateral_error[1], 0.1 + 0.3 * 2.0 / 3.0, 1e-9);  // 10 m: 2/3 toward 11 m
+  EXPECT_NEAR(s.left.lateral_error[2], 0.1, 1e-9);   // 20 m
+  EXPECT_TRUE(std::isnan(s.left.lateral_error[3]));  // the trace ends at 20 m: not 40 m
+  EXPECT_NEAR(s.right.lateral_error[2], 0.2, 1e-9);
+  ScoreSummary sum;
+  sum.add(s, 1.0);
+  EXPECT_EQ(sum.lateral_errors[0].size(), 2u);
+  EXPECT_TRUE(sum.lateral_errors[3].empty());
+  EXPECT_NEAR(sum.lateralPercentile(0, 50), 0.1, 1e-9);
+  EXPECT_NEAR(sum.lateralPercentile(0, 95), 0.2, 1e-9);
+  EXPECT_TRUE(std::isnan(sum.lateralPercentile(3, 50)));
+  // without a vehicle frame (format 1 truth) nothing is measured
+  t.has_vehicle_frame = false;
+  EXPECT_TRUE(std::isnan(scoreFrame(d, t).left.lateral_error[0]));
+}
+
+TEST(Scoring, LaneOptionalFramesDoNotCountMisses) {
+  FrameTruth optional = straightTruth();
+  optional.lane_optional = true;  // an intersection ahead
+  Detection wrong = perfect();
+  wrong.left = sidePoints(-kHalfLane + 1.0, 6);  // a zebra stripe traced as the left line
+  ScoreSummary sum;
+  sum.add(scoreFrame(perfect(), straightTruth()), 1.0);  // TP
+  sum.add(scoreFrame(Detection(), optional), 1.0);       // acceptable miss
+  sum.add(scoreFrame(perfect(), optional), 1.0);         // correct anyway: fine
+  sum.add(scoreFrame(wrong, optional), 1.0);             // wrong counts everywhere
+  EXPECT_EQ(sum.frames, 4);
+  EXPECT_EQ(sum.required, 1);
+  EXPECT_DOUBLE_EQ(sum.tpPercent(), 100.0);
+  EXPECT_DOUBLE_EQ(sum.missPercent(), 0.0);
+  EXPECT_DOUBLE_EQ(sum.fpPercent(), 25.0);
+  // true sides count for recall only where a lane is required
+  EXPECT_EQ(sum.sides_true, 2);
+  EXPECT_EQ(sum.sides_reported, 6);
+  EXPECT_EQ(sum.sides_correct, 5);
+}
+
 TEST(Scoring, SummaryAddsUp) {
   ScoreSummary sum;
   const FrameTruth t = straightTruth();
-  Detection fp = perfect();
-  fp.distance += 0.5;
-  sum.add(scoreFrame(perfect(), t), 10.0);
-  sum.add(scoreFrame(fp, t), 20.0);
-  sum.add(scoreFrame(Detection(), t), 30.0);
-  sum.add(scoreFrame(perfect(), t), 40.0);
-  EXPECT_EQ(sum.frames, 4);
-  EXPECT_DOUBLE_EQ(sum.tpPercent(), 50.0);
-  EXPECT_DOUBLE_EQ(sum.fpPercent(), 25.0);
-  EXPECT_DOUBLE_EQ(sum.missPercent(), 25.0);
-  EXPECT_EQ(sum.plane_frames, 3);
-  EXPECT_NEAR(sum.meanOffsetError(), 0.5 / 3, 1e-12);
-  EXPECT_DOUBLE_EQ(sum.meanMs(), 25.0);
-}
-
-TEST(GroundTruth, JsonRoundTrip) {
-  SequenceTruth seq;
-  seq.frames.push_back(straightTruth());
-  FrameTruth empty = straightTruth();
-  empty.index = 1;
-  empty.has_lane = false;
-  empty.left.clear();
-  empty.right.clear();
-  seq.frames.push_back(empty);
-  const std::string path = ::testing::TempDir() + "/rgbd_tools_gt.json";
-  std::string error;
-  ASSERT_TRUE(writeGroundTruth(path, seq, error)) << error;
-  SequenceTruth back;
-  ASSERT_TRUE(readGroundTruth(path, back, error)) << error;
-  ASSERT_EQ(back.frames.size(), 2u);
-  const FrameTruth* f0 = back.find(0);
-  ASSERT_NE(f0, nullptr);
-  EXPECT_TRUE(f0->has_lane);
-  ASSERT_EQ(f0->left.size(), seq.frames[0].left.size());
-  EXPECT_NEAR((f0->left.back() - seq.frames[0].left.back()).norm(), 0.0, 1e-5);
-  EXPECT_NEAR(f0->distance, kHeight, 1e-12);
-  EXPECT_FALSE(back.find(1)->has_lane);
-  EXPECT_TRUE(back.find(1)->right.empty());
-  EXPECT_EQ(back.find(7), nullptr);
-  std::remove(path.c_str());
-  EXPECT_FALSE(readGroundTruth(path, back, error));
-  EXPECT_NE(error.find(path), std::string::npos);
+  const FrameTruth kerb = straightTruth(BoundaryKind::kPaint, BoundaryKind::kRoadEdge);
+  Detection wrong_plane = perfect();
+  wrong_plane.distance += 0.5;
+  Detection one_side = perfect();
+  one_side.right_reported = false;
+  FrameTruth none = t;
+  none.boundaries.clear();
+  none.syncEgoLines();
+  sum.add(scoreFrame(perfect(), t), 10.0);      // TP
+  sum.add(scoreFrame(wrong_plane, t), 20.0);    // FP
+  sum.add(scoreFrame(Detection(), t), 30.0);    // miss
+  sum.add(scoreFrame(one_side, t), 40.0);       // partial
+  sum.add(scoreFrame(perfect(), kerb), 50.0);   // FP: the kerb reported as paint
+  sum.add(scoreFrame(planeOnly(), none), 60.0);  // no lane needed, plane alone: fine
+  EXPECT_EQ(sum.frames, 6);
+  EXPECT_EQ(sum.required, 5);
+  EXPECT_DOUBLE_EQ(sum.tpPercent(), 20.0);
+  EXPECT_DOUBLE_EQ(sum.partialPercent(), 20.0);
+  EXPECT_DOUBLE_EQ(sum.missPercent(), 20.0);
+  EXPECT_DOUBLE_EQ(sum.fpPercent(), 100.0 * 2 / 6);
+  EXPECT_EQ(sum.plane_frames, 5);
+  EXPECT_EQ(sum.plane_ok, 4);
+  EXPECT_DOUBLE_EQ(sum.planeOkPercent(), 80.0);
+  EXPECT_NEAR(sum.meanOffsetError(), 0.5 / 5, 1e-12);
+  EXPECT_DOUBLE_EQ(sum.meanMs(), 35.0);
+  // sides: reported 2 + 2 + 0 + 1 + 2 = 7, correct 2 + 2 + 1 + 1 = 6 (the wrong plane's sides
+  // are on their lines), the kerb's paint report is the only kind error
+  EXPECT_EQ(sum.sides_reported, 7);
+  EXPECT_EQ(sum.sides_correct, 6);
+  EXPECT_EQ(sum.confusion[1][0], 1);  // paint on a road edge
+  EXPECT_EQ(sum.confusion[0][1], 0);
+  EXPECT_EQ(sum.sides_true, 10);
+  EXPECT_EQ(sum.sides_true_correct, 6);
+  EXPECT_DOUBLE_EQ(sum.sideRecall(), 60.0);
+  EXPECT_TRUE(std::isnan(ScoreSummary().tpPercent()));  // no lane frames: no rate
 }
 
 }  // namespace

@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
     bo.tf_parent = "base_link";
     bo.tf_z = s.camera_height;
     bo.tf_pitch = s.pitch_deg * M_PI / 180.0;
-    bo.tf_roll = s.roll_deg * M_PI / 180.0;
+    // the generator's roll turns the image's right side up: REP-103 roll about x is its negative
+    bo.tf_roll = -s.roll_deg * M_PI / 180.0;
     if (!bag_writer.open(bag, bo, error)) {
       std::cerr << "generate_sequence: " << error << "\n";
       return 1;

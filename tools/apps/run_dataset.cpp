@@ -225,10 +225,11 @@ int main(int argc, char** argv) {
       processed ? sum_ms / processed : 0.0, frame.depth_source.c_str());
   if (have_truth) {
     std::printf(
-        "ground truth: TP %.1f%%  FP %.1f%%  miss %.1f%%  angle err %.3f deg  offset err "
-        "%.3f m (%d frames scored, %d without truth)\n",
-        summary.tpPercent(), summary.fpPercent(), summary.missPercent(), summary.meanAngleError(),
-        summary.meanOffsetError(), summary.frames, no_truth);
+        "ground truth: TP %.1f%%  partial %.1f%%  FP %.1f%%  miss %.1f%%  angle err %.3f deg  "
+        "offset err %.3f m (%d frames scored, %d require a lane, %d without truth)\n",
+        summary.tpPercent(), summary.partialPercent(), summary.fpPercent(),
+        summary.missPercent(), summary.meanAngleError(), summary.meanOffsetError(),
+        summary.frames, summary.required, no_truth);
   }
   if (plane_check) {
     const PlaneCheckTotals& t = plane_totals;

@@ -192,11 +192,11 @@ int main(int argc, char** argv) {
       }
       summary.add(tools::scoreFrame(d, *t), 0.0);
     }
-    std::printf("  vs ground truth (%s mode, METHOD.md section 6, %d frames%s): TP %.1f%%  FP %.1f%%  miss %.1f%%"
-                "  (planes: angle err %.3f deg, offset err %.3f m)\n",
+    std::printf("  vs ground truth (%s mode, scoring.h rules, %d frames%s): TP %.1f%%  partial %.1f%%  FP %.1f%%"
+                "  miss %.1f%%  (planes: angle err %.3f deg, offset err %.3f m)\n",
                 label.c_str(), summary.frames, no_truth ? (", " + std::to_string(no_truth) + " without truth").c_str() : "",
-                summary.tpPercent(), summary.fpPercent(), summary.missPercent(), summary.meanAngleError(),
-                summary.meanOffsetError());
+                summary.tpPercent(), summary.partialPercent(), summary.fpPercent(), summary.missPercent(),
+                summary.meanAngleError(), summary.meanOffsetError());
   }
 
   if (!latency_csv.empty()) {

@@ -7,6 +7,16 @@ namespace rgbd_lane_detector {
 namespace tools {
 namespace {
 
+void appendSideScore(std::string& out, const char* name, const SideScore& s) {
+  out += ", \"";
+  out += name;
+  out += "\": {\"truth\": " + jsonString(s.truth ? boundaryKindName(s.true_kind) : "none") +
+         ", \"outcome\": " + jsonString(sideOutcomeName(s.outcome)) +
+         ", \"points\": " + std::to_string(s.points) +
+         ", \"inliers\": " + std::to_string(s.inliers) +
+         ", \"mean_lateral\": " + jsonNumber(s.mean_lateral) + "}";
+}
+
 void appendTrace(std::string& out, const char* name, const MarkerTrace& m) {
   out += "\"";
   out += name;
@@ -111,12 +121,13 @@ std::string resultToJson(int frame, const std::string& name, double stamp, const
   }
   if (score) {
     out += ", \"score\": {\"outcome\": " + jsonString(outcomeName(score->outcome)) +
+           ", \"lane_required\": " + (score->lane_required ? "true" : "false") +
+           ", \"plane_ok\": " + (score->plane_ok ? "true" : "false") +
            ", \"angle_error_deg\": " + jsonNumber(score->angle_error_deg) +
-           ", \"offset_error\": " + jsonNumber(score->offset_error) +
-           ", \"left_points\": " + std::to_string(score->left.points) +
-           ", \"left_inliers\": " + std::to_string(score->left.inliers) +
-           ", \"right_points\": " + std::to_string(score->right.points) +
-           ", \"right_inliers\": " + std::to_string(score->right.inliers) + "}";
+           ", \"offset_error\": " + jsonNumber(score->offset_error);
+    appendSideScore(out, "left", score->left);
+    appendSideScore(out, "right", score->right);
+    out += "}";
   }
   return out + "}";
 }

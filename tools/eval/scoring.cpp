@@ -21,26 +21,32 @@ void appendPoints(const MarkerTrace& m, std::vector<Eigen::Vector3d>& out) {
 
 Detection detectionFromResult(const Result& result) {
   Detection d;
-  d.plane_valid = result.status == Status::kOk && result.plane.valid;
+  const bool ok = result.status == Status::kOk;
+  d.plane_valid = ok && result.plane.valid;
   d.normal = result.plane.normal;
   d.distance = result.plane.distance;
-  d.left_reported = result.status == Status::kOk && result.left.found;
-  d.right_reported = result.status == Status::kOk && result.right.found;
+  d.left_reported = ok && result.left.found;
+  d.right_reported = ok && result.right.found;
+  d.left_kind = result.left.kind;
+  d.right_kind = result.right.kind;
+  d.left_confidence = result.left.confidence;
+  d.right_confidence = result.right.confidence;
   if (d.left_reported) appendPoints(result.left, d.left);
   if (d.right_reported) appendPoints(result.right, d.right);
   return d;
 }
 
 const char* outcomeName(Outcome o) {
-  switch (o) {
-    case Outcome::kTruePositive:
-      return "TP";
-    case Outcome::kFalsePositive:
-      return "FP";
-    case Outcome::kMiss:
-      return "miss";
-  }
-  return "?";
+  static const char* const kNames[] = {"TP", "partial", "FP", "miss"};
+  const size_t i = static_cast<size_t>(o);
+  return i < 4 ? kNames[i] : "?";
+}
+
+const char* sideOutcomeName(SideOutcome o) {
+  static const char* const kNames[] = {"none",     "correct",  "wrong_kind",
+                                       "off_line", "spurious", "missed"};
+  const size_t i = static_cast<size_t>(o);
+  return i < 6 ? kNames[i] : "?";
 }
 
 double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line,
@@ -66,21 +72,75 @@ double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector
   return best;
 }
 
-SideScore scoreSide(const std::vector<Eigen::Vector3d>& points,
-                    const std::vector<Eigen::Vector3d>& line, const FrameTruth& truth,
+namespace {
+
+// y(x) of a polyline sorted by x, linear between points; NaN outside.
+double interpolateY(std::vector<Eigen::Vector2d>& xy, double x) {
+  std::sort(xy.begin(), xy.end(),
+            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+  for (size_t i = 0; i + 1 < xy.size(); ++i) {
+    if (x < xy[i].x() || x > xy[i + 1].x()) continue;
+    const double dx = xy[i + 1].x() - xy[i].x();
+    const double w = dx > 0 ? (x - xy[i].x()) / dx : 0.0;
+    return xy[i].y() + w * (xy[i + 1].y() - xy[i].y());
+  }
+  return kNaN;
+}
+
+}  // namespace
+
+double lateralErrorAt(const std::vector<Eigen::Vector3d>& points, const TrueBoundary& truth,
+                      const FrameTruth& frame, double x) {
+  if (!frame.has_vehicle_frame) return kNaN;
+  std::vector<Eigen::Vector2d> reported, line;
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3d b = frame.base_to_camera * p;
+    reported.emplace_back(b.x(), b.y());
+  }
+  for (const auto& p : truth.points) {
+    const Eigen::Vector3d b = frame.base_to_camera * p;
+    line.emplace_back(b.x(), b.y());
+  }
+  return std::fabs(interpolateY(reported, x) - interpolateY(line, x));
+}
+
+SideScore scoreSide(const std::vector<Eigen::Vector3d>& points, bool reported, BoundaryKind kind,
+                    double confidence, const TrueBoundary* truth, const FrameTruth& frame,
                     const ScoringRules& rules) {
   SideScore s;
+  std::fill(std::begin(s.lateral_error), std::end(s.lateral_error), kNaN);
+  s.truth = truth != nullptr;
+  if (truth) s.true_kind = truth->kind;
+  s.reported = reported;
+  s.mean_lateral = kNaN;
+  if (!reported) {
+    s.outcome = s.truth ? SideOutcome::kMissed : SideOutcome::kNone;
+    return s;
+  }
+  s.reported_kind = kind;
+  s.confidence = confidence;
   double sum = 0.0;
   for (const auto& p : points) {
     if (!p.allFinite()) continue;
     ++s.points;
-    const double d = lateralDistance(p, line, truth.normal, truth.distance);
+    if (!truth) continue;
+    const double d = lateralDistance(p, truth->points, frame.normal, frame.distance);
     sum += d;
     if (d <= rules.max_lateral) ++s.inliers;
   }
-  s.mean_lateral = s.points ? sum / s.points : kNaN;
-  s.ok = !line.empty() && s.points >= rules.min_points &&
-         s.inliers >= rules.min_inlier_fraction * s.points - 1e-9;
+  if (truth && s.points) s.mean_lateral = sum / s.points;
+  if (truth)
+    for (int k = 0; k < kNumLateralDistances; ++k)
+      s.lateral_error[k] = lateralErrorAt(points, *truth, frame, kLateralDistances[k]);
+  s.on_line = truth && s.points >= rules.min_points &&
+              s.inliers >= rules.min_inlier_fraction * s.points - 1e-9;
+  if (!truth)
+    s.outcome = SideOutcome::kSpurious;
+  else if (!s.on_line)
+    s.outcome = SideOutcome::kOffLine;
+  else
+    s.outcome = kind == truth->kind ? SideOutcome::kCorrect : SideOutcome::kWrongKind;
   return s;
 }
 
@@ -88,10 +148,6 @@ FrameScore scoreFrame(const Detection& det, const FrameTruth& truth, const Scori
   FrameScore fs;
   fs.plane_valid = det.plane_valid && det.normal.allFinite() && std::isfinite(det.distance) &&
                    det.normal.norm() > 1e-9;
-  const std::vector<Eigen::Vector3d> none;
-  const std::vector<Eigen::Vector3d>& left = det.left_reported ? det.left : none;
-  const std::vector<Eigen::Vector3d>& right = det.right_reported ? det.right : none;
-  fs.reported = fs.plane_valid || !left.empty() || !right.empty();
   fs.angle_error_deg = fs.offset_error = kNaN;
   if (fs.plane_valid) {
     const double c = det.normal.normalized().dot(truth.normal.normalized());
@@ -100,37 +156,71 @@ FrameScore scoreFrame(const Detection& det, const FrameTruth& truth, const Scori
     fs.plane_ok = c > 0.0 && det.distance > 0.0 && fs.angle_error_deg <= rules.max_angle_deg &&
                   fs.offset_error <= rules.max_offset;
   }
-  fs.left = scoreSide(left, truth.left, truth, rules);
-  fs.right = scoreSide(right, truth.right, truth, rules);
-  if (!fs.reported) {
+  fs.left = scoreSide(det.left, det.left_reported, det.left_kind, det.left_confidence,
+                      truth.egoSide(true), truth, rules);
+  fs.right = scoreSide(det.right, det.right_reported, det.right_kind, det.right_confidence,
+                       truth.egoSide(false), truth, rules);
+  fs.reported = fs.left.reported || fs.right.reported;
+  fs.lane_required = truth.has_lane && !truth.lane_optional;
+  const bool wrong = fs.left.wrong() || fs.right.wrong() || (fs.reported && !fs.plane_ok);
+  // every true side correct (a side without truth is fine when not reported: not wrong)
+  const bool complete = (!fs.left.truth || fs.left.correct()) &&
+                        (!fs.right.truth || fs.right.correct()) && truth.has_lane;
+  if (!fs.reported)
     fs.outcome = Outcome::kMiss;
-  } else if (truth.has_lane && fs.plane_ok && fs.left.ok && fs.right.ok) {
+  else if (wrong)
+    fs.outcome = Outcome::kWrong;
+  else if (complete)
     fs.outcome = Outcome::kTruePositive;
-  } else {
-    fs.outcome = Outcome::kFalsePositive;
-  }
+  else
+    fs.outcome = Outcome::kPartial;
   return fs;
+}
+
+double ScoreSummary::percent(int a, int b) {
+  return b > 0 ? 100.0 * a / b : kNaN;
 }
 
 void ScoreSummary::add(const FrameScore& s, double ms) {
   ++frames;
   sum_ms += ms;
-  switch (s.outcome) {
-    case Outcome::kTruePositive:
-      ++tp;
-      break;
-    case Outcome::kFalsePositive:
-      ++fp;
-      break;
-    case Outcome::kMiss:
-      ++miss;
-      break;
+  if (s.outcome == Outcome::kWrong) ++wrong;
+  if (s.lane_required) {
+    ++required;
+    tp += s.outcome == Outcome::kTruePositive;
+    partial += s.outcome == Outcome::kPartial;
+    miss += s.outcome == Outcome::kMiss;
   }
   if (s.plane_valid && std::isfinite(s.angle_error_deg)) {
     ++plane_frames;
+    plane_ok += s.plane_ok;
     sum_angle_error += s.angle_error_deg;
     sum_offset_error += s.offset_error;
   }
+  for (const SideScore* side : {&s.left, &s.right}) {
+    if (side->reported) {
+      ++sides_reported;
+      sides_correct += side->correct();
+      const int t = side->truth ? static_cast<int>(side->true_kind) : 2;
+      ++confusion[t][static_cast<int>(side->reported_kind)];
+    }
+    if (side->truth && s.lane_required) {
+      ++sides_true;
+      sides_true_correct += side->correct();
+    }
+    for (int k = 0; k < kNumLateralDistances; ++k)
+      if (std::isfinite(side->lateral_error[k]))
+        lateral_errors[k].push_back(side->lateral_error[k]);
+  }
+}
+
+double ScoreSummary::lateralPercentile(int k, double q) const {
+  std::vector<double> v = lateral_errors[k];
+  if (v.empty()) return kNaN;
+  const size_t rank = static_cast<size_t>(std::ceil(q / 100.0 * v.size()));
+  const size_t i = std::min(v.size() - 1, rank > 0 ? rank - 1 : 0);
+  std::nth_element(v.begin(), v.begin() + i, v.end());
+  return v[i];
 }
 
 double ScoreSummary::meanAngleError() const {

@@ -3,9 +3,11 @@
 
 usage: plot_scores.py PER_FRAME_CSV OUT_DIR
 
-Writes OUT_DIR/scores_<sequence>.png (one strip per mode: TP green, FP red, miss grey; below,
-the left/right peak response of each depth mode and the plane angle error) and
-OUT_DIR/summary.png (TP / FP / miss per sequence and mode).
+Writes OUT_DIR/scores_<sequence>.png (one strip per mode: TP green, partial orange, FP red,
+miss grey, frames that need no lane hatched; below, the left/right peak response of each depth
+mode and the plane angle error) and OUT_DIR/summary.png (per sequence and mode, % of all frames:
+TP, partial and miss of the frames that require a lane, FP anywhere, and the frames that need no
+lane without a wrong report).
 """
 import csv
 import os
@@ -18,7 +20,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-COLOURS = {"TP": "#2ca02c", "FP": "#d62728", "miss": "#b0b0b0"}
+COLOURS = {"TP": "#2ca02c", "partial": "#ff9f1c", "FP": "#d62728", "miss": "#b0b0b0"}
+NO_LANE = "#dcdcf0"  # frames that need no lane (no boundary, or an intersection ahead)
+
+
+def required(row):
+    """True when the frame requires a lane (older CSVs without the column: every frame)."""
+    return row.get("lane_required", "1") not in ("0", "false")
+
+
+def percentages(rows):
+    """(TP, partial, FP, miss) of the lane frames and FP of all frames, in %."""
+    req = [r for r in rows if required(r)]
+    n = max(len(req), 1)
+    share = {o: 100.0 * sum(r["outcome"] == o for r in req) / n for o in ("TP", "partial", "miss")}
+    share["FP"] = 100.0 * sum(r["outcome"] == "FP" for r in rows) / max(len(rows), 1)
+    return share
 
 
 def read_rows(path):
@@ -46,17 +63,20 @@ def plot_sequence(name, modes, out_path):
         for outcome, colour in COLOURS.items():
             frames = [int(r["frame"]) for r in rows if r["outcome"] == outcome]
             ax_strip.broken_barh([(f - 0.5, 1.0) for f in frames], (i - 0.4, 0.8), color=colour)
-        n = len(rows)
-        tp = sum(r["outcome"] == "TP" for r in rows)
-        fp = sum(r["outcome"] == "FP" for r in rows)
-        labels[i] = "%s  TP %.0f%% FP %.0f%%" % (mode, 100.0 * tp / max(n, 1), 100.0 * fp / max(n, 1))
+        optional = [int(r["frame"]) for r in rows if not required(r)]
+        ax_strip.broken_barh([(f - 0.5, 1.0) for f in optional], (i - 0.4, 0.8),
+                             facecolor="none", edgecolor="#404080", hatch="///", lw=0)
+        share = percentages(rows)
+        labels[i] = "%s  TP %.0f%% FP %.0f%%" % (mode, share["TP"], share["FP"])
     ax_strip.set_yticks(range(len(labels)))
     ax_strip.set_yticklabels(labels, fontsize=8)
     ax_strip.set_ylim(-0.6, len(labels) - 0.4)
     ax_strip.invert_yaxis()
-    ax_strip.set_title("%s: per-frame outcome (METHOD.md section 6)" % name)
-    ax_strip.legend(handles=[Patch(color=c, label=o) for o, c in COLOURS.items()],
-                    loc="upper right", fontsize=7, ncol=3)
+    ax_strip.set_title("%s: per-frame outcome (scoring.h)" % name)
+    ax_strip.legend(handles=[Patch(color=c, label=o) for o, c in COLOURS.items()] +
+                    [Patch(facecolor="none", edgecolor="#404080", hatch="///",
+                           label="no lane needed")],
+                    loc="upper right", fontsize=7, ncol=5)
     for mode, style in (("paper", "--"), ("improved", "-")):
         if mode not in modes:
             continue
@@ -95,10 +115,18 @@ def plot_summary(data, out_path):
             n = max(len(rows), 1)
             x = i + (j - (len(modes) - 1) / 2.0) * width
             bottom = 0.0
-            for outcome in ("TP", "FP", "miss"):
-                v = 100.0 * sum(r["outcome"] == outcome for r in rows) / n
-                ax.bar(x, v, width * 0.95, bottom=bottom, color=COLOURS[outcome],
-                       edgecolor="white", lw=0.3)
+            # % of all frames: lane frames by outcome, FP anywhere, then the no-lane frames
+            # without a wrong report
+            for outcome in ("TP", "partial", "FP", "miss", "no lane"):
+                if outcome == "FP":
+                    count = sum(r["outcome"] == "FP" for r in rows)
+                elif outcome == "no lane":
+                    count = sum(not required(r) and r["outcome"] != "FP" for r in rows)
+                else:
+                    count = sum(required(r) and r["outcome"] == outcome for r in rows)
+                v = 100.0 * count / n
+                ax.bar(x, v, width * 0.95, bottom=bottom,
+                       color=COLOURS.get(outcome, NO_LANE), edgecolor="white", lw=0.3)
                 bottom += v
             ax.text(x, 101, mode.replace("-colour", "-c").replace("improved", "imp"),
                     rotation=90, fontsize=7, ha="center", va="bottom")
@@ -106,9 +134,10 @@ def plot_summary(data, out_path):
     ax.set_xticklabels(sequences, rotation=30, ha="right", fontsize=8)
     ax.set_ylim(0, 125)
     ax.set_ylabel("% of frames")
-    ax.legend(handles=[Patch(color=c, label=o) for o, c in COLOURS.items()], fontsize=8,
-              loc="upper right", ncol=3)
-    ax.set_title("TP / FP / miss per sequence and mode")
+    ax.legend(handles=[Patch(color=c, label=o) for o, c in COLOURS.items()] +
+              [Patch(color=NO_LANE, label="no lane needed, nothing wrong")], fontsize=8,
+              loc="upper right", ncol=5)
+    ax.set_title("TP / partial / FP / miss per sequence and mode (% of all frames)")
     fig.tight_layout()
     fig.savefig(out_path, dpi=90)
     plt.close(fig)

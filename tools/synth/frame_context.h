@@ -16,13 +16,15 @@ namespace synth {
 
 /// What a ray hit first.
 struct Hit {
-  enum Kind { kNone, kGround, kBox, kRail, kRailPost } kind = kNone;
+  /// kGround: any top surface (road, kerb top, sidewalk, gravel, grass); kKerbFace: the
+  /// vertical face of a kerb; kRail / kRailPost: guard rails.
+  enum Kind { kNone, kGround, kBox, kRail, kRailPost, kKerbFace } kind = kNone;
   double lambda = 0.0;  ///< ray parameter = optical-frame depth z (ray z component is 1)
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< world
   int box = -1;
   BoxHit box_hit;
   int rail_side = 0;        ///< -1 left, +1 right
-  double s = 0.0, t = 0.0;  ///< road coordinates of ground / rail hits
+  double s = 0.0, t = 0.0;  ///< road coordinates of ground / rail / kerb face hits
 };
 
 /// Everything one frame needs, computed once before the parallel loop.
@@ -38,6 +40,8 @@ struct FrameContext {
   cv::Vec3d ambient_light, sun_light;              ///< RGB
   double gain = 1.0;                               ///< exposure of this frame
   double rail_left = 0.0, rail_right = 0.0;        ///< lateral offsets of the rails
+  bool flat_ground = true;  ///< plane y = 0 everywhere (every scenario of generator version 1)
+  bool urban = false;       ///< kerb, asphalt edge, tram tracks or intersections present
 
   /// Prepare culling rectangles and shadow footprints of the boxes.
   void prepare(int width, int height);
@@ -61,6 +65,27 @@ struct FrameContext {
   cv::Vec3d boxAlbedo(const Box& box, const BoxHit& h) const;
   double sunVisibility(const Eigen::Vector3d& p, int self_box) const;
   double canopyShadow(double x, double z, double t) const;
+  /// Ground hit on a non-planar ground (vertical profile, kerb or asphalt edge zone).
+  void traceGround(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double& best,
+                   Hit& hit) const;
+  /**
+   * @brief First crossing of the ray o + l d (l in (0, max_l)) with the surface
+   * y = profile height(s) + @p offset. @return false when it does not reach it.
+   */
+  bool surfaceHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double offset, double max_l,
+                  double& l, double& s, double& t) const;
+  /// Unit normal (world) of the ground's top surface at road position @p s.
+  Eigen::Vector3d groundNormal(double s) const;
+  /// Albedo of the kerb / sidewalk or gravel zone right of the ego lane (t beyond its start).
+  cv::Vec3d sideZoneAlbedo(const Hit& hit, double footprint) const;
+  /// Kerb stones (face and top) at road position @p s, with joints every metre.
+  cv::Vec3d kerbAlbedo(double s, double footprint) const;
+  cv::Vec3d grassAlbedo(double x, double z, double footprint) const;
+  cv::Vec3d gravelAlbedo(double x, double z, double footprint) const;
+  /// 1 when a kerb shades this road point from the sun, else 0.
+  double kerbShadow(const Hit& hit) const;
+  /// Sample-key bits of the urban materials of a ground hit (0 for the version-1 scenarios).
+  uint32_t urbanKey(const Hit& hit) const;
 };
 
 }  // namespace synth

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "frame_context.h"
 #include "rgbd_lane_detector_tools/synth/noise.h"
 #include "scene_objects.h"
@@ -37,7 +39,80 @@ double underOverpass(const SceneObjects& objects, const SceneSettings& s, double
   return u;
 }
 
+// Quintic smoothstep (zero velocity and acceleration at both ends) and its derivative.
+double quinticStep(double x) {
+  x = std::min(1.0, std::max(0.0, x));
+  return x * x * x * (10.0 + x * (-15.0 + 6.0 * x));
+}
+double quinticRate(double x) {
+  if (x <= 0.0 || x >= 1.0) return 0.0;
+  return 30.0 * x * x * (1.0 - x) * (1.0 - x);
+}
+
+// Lateral shift of the vehicle by lane changes at road position s and its derivative d/ds.
+void laneChangeShift(const SceneSettings& s, double pos, double& shift, double& rate) {
+  const double L = s.lane_change_length, D = s.lane_change_lanes * s.lane_width;
+  const double out = (pos - s.lane_change_start) / L;
+  shift = D * quinticStep(out);
+  rate = D * quinticRate(out) / L;
+  if (s.lane_change_return > 0) {
+    const double back = (pos - s.lane_change_return) / L;
+    shift -= D * quinticStep(back);
+    rate -= D * quinticRate(back) / L;
+  }
+}
+
+// Optical frame -> world rotation of a camera with yaw (positive right), pitch (positive down)
+// and roll, on top of the y-down -> y-up flip of the optical frame.
+Eigen::Matrix3d cameraRotation(double yaw, double pitch, double roll) {
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const double cp = std::cos(pitch), sp = std::sin(pitch);
+  const double cr = std::cos(roll), sr = std::sin(roll);
+  Eigen::Matrix3d Ry, Rp, Rr;
+  Ry << cy, 0, sy, 0, 1, 0, -sy, 0, cy;
+  Rp << 1, 0, 0, 0, cp, -sp, 0, sp, cp;  // forward tilts down for positive pitch
+  Rr << cr, -sr, 0, sr, cr, 0, 0, 0, 1;
+  const Eigen::Matrix3d optical = Eigen::Vector3d(1, -1, 1).asDiagonal();  // y down -> y up
+  return Ry * Rp * Rr * optical;
+}
+
+// Total-least-squares plane n . p + d = 0 of points, n oriented toward the origin (d > 0).
+void fitPlane(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d& n, double& d, double& rms) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) c += p;
+  c /= static_cast<double>(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - c) * (p - c).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  n = eig.eigenvectors().col(0).normalized();  // smallest eigenvalue first
+  d = -n.dot(c);
+  if (d < 0) {
+    n = -n;
+    d = -d;
+  }
+  double sum = 0.0;
+  for (const auto& p : pts) sum += std::pow(n.dot(p) + d, 2);
+  rms = std::sqrt(sum / pts.size());
+}
+
 }  // namespace
+
+Eigen::Matrix3d baseFromWorld(double yaw, double pitch) {
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  const double cp = std::cos(pitch), sp = std::sin(pitch);
+  Eigen::Matrix3d R;
+  R.row(0) << sy * cp, sp, cy * cp;    // forward
+  R.row(1) << -cy, 0.0, sy;            // left
+  R.row(2) << -sy * sp, cp, -cy * sp;  // up
+  return R;
+}
+
+Eigen::Isometry3d nominalMount(const SceneSettings& s) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = baseFromWorld(0.0, 0.0) * cameraRotation(0.0, s.pitch_deg * kDeg, s.roll_deg * kDeg);
+  T.translation() = Eigen::Vector3d(0.0, 0.0, s.camera_height);
+  return T;
+}
 
 Renderer::Renderer(const SceneSettings& settings)
     : settings_(settings), road_(settings_), objects_(new SceneObjects(settings_, road_)) {}
@@ -58,48 +133,104 @@ CameraPose Renderer::pose(int index) const {
   p.s = s.start_s + s.speed * index / s.fps;
   const double w = 2.0 * M_PI / s.drift_period;
   p.t = s.drift_amplitude * std::sin(w * p.s);
-  const double dtds = s.drift_amplitude * w * std::cos(w * p.s);
+  double dtds = s.drift_amplitude * w * std::cos(w * p.s);
+  if (s.lane_change_length > 0) {
+    double shift, rate;
+    laneChangeShift(s, p.s, shift, rate);
+    p.t += shift;
+    dtds += rate;
+  }
   p.yaw = road_.heading(p.s) + std::atan(dtds / (1.0 - p.t * road_.curvature()));
   const double ww = 2.0 * M_PI / s.wobble_period;
   p.pitch = (s.pitch_deg + s.pitch_wobble_deg * std::sin(ww * p.s)) * kDeg;
   p.roll = (s.roll_deg + s.roll_wobble_deg * std::sin(ww * p.s / 1.37 + 1.0)) * kDeg;
-  const double height = s.camera_height + 0.02 * std::sin(ww * p.s / 0.61);
+  p.height = s.camera_height + 0.02 * std::sin(ww * p.s / 0.61);
   const Eigen::Vector2d g = road_.point(p.s, p.t);
-  p.position = Eigen::Vector3d(g.x(), height, g.y());
-  const double cy = std::cos(p.yaw), sy = std::sin(p.yaw);
-  const double cp = std::cos(p.pitch), sp = std::sin(p.pitch);
-  const double cr = std::cos(p.roll), sr = std::sin(p.roll);
-  Eigen::Matrix3d Ry, Rp, Rr;
-  Ry << cy, 0, sy, 0, 1, 0, -sy, 0, cy;
-  Rp << 1, 0, 0, 0, cp, -sp, 0, sp, cp;  // forward tilts down for positive pitch
-  Rr << cr, -sr, 0, sr, cr, 0, 0, 0, 1;
-  const Eigen::Matrix3d optical = Eigen::Vector3d(1, -1, 1).asDiagonal();  // y down -> y up
-  p.R_wc = Ry * Rp * Rr * optical;
+  if (road_.profile().flat()) {
+    p.position = Eigen::Vector3d(g.x(), p.height, g.y());
+    p.base = Eigen::Vector3d(g.x(), 0.0, g.y());
+    p.R_wc = cameraRotation(p.yaw, p.pitch, p.roll);
+  } else {
+    // the vehicle stands on the grade: pitched nose-up by it, the camera along its up axis
+    p.vehicle_pitch = std::atan(road_.profile().grade(p.s));
+    p.base = Eigen::Vector3d(g.x(), road_.profile().height(p.s), g.y());
+    p.position = p.base + p.height * baseFromWorld(p.yaw, p.vehicle_pitch).row(2).transpose();
+    p.R_wc = cameraRotation(p.yaw, p.pitch - p.vehicle_pitch, p.roll);
+  }
   return p;
 }
 
 tools::FrameTruth Renderer::truth(int index) const {
+  using tools::BoundaryLabel;
+  const SceneSettings& s = settings_;
   const CameraPose p = pose(index);
   const Eigen::Matrix3d Rt = p.R_wc.transpose();
+  const Eigen::Matrix3d Rb = baseFromWorld(p.yaw, p.vehicle_pitch);
   tools::FrameTruth f;
   f.index = index;
-  f.normal = (Rt * Eigen::Vector3d::UnitY()).normalized();
-  f.distance = p.position.y();
-  const auto sample = [&](int marker, std::vector<Eigen::Vector3d>& line) {
-    line.clear();
-    if (marker < 0) return;
-    const double offset = road_.markers()[marker].offset;
-    const int n = static_cast<int>(std::floor(
-        (settings_.gt_max_distance - settings_.gt_min_distance) / settings_.gt_step + 1e-9));
+  // labels follow the lane under the camera
+  const int lane = road_.laneAt(p.t);
+  const LaneDef& ego = road_.lane(lane);
+  const auto& defs = road_.boundaries();
+  if (road_.profile().flat()) {
+    f.normal = (Rt * Eigen::Vector3d::UnitY()).normalized();
+    f.distance = p.position.y();
+  } else {
+    std::vector<Eigen::Vector3d> surface;
+    const double left = defs[ego.left].offset, right = defs[ego.right].offset;
+    for (double a = s.gt_plane_min; a <= s.gt_plane_max + 1e-9; a += s.gt_step)
+      for (int j = 0; j <= 4; ++j)
+        surface.push_back(
+            Rt * (road_.surfacePoint(p.s + a, left + 0.25 * j * (right - left)) - p.position));
+    fitPlane(surface, f.normal, f.distance, f.plane_rms);
+  }
+  // boundary index per label
+  int index_of[tools::kNumBoundaryLabels] = {ego.left, ego.right, -1, -1, road_.roadEdgeLeft(),
+                                             road_.roadEdgeRight()};
+  if (lane > -road_.lanesLeft() && road_.lane(lane - 1).right == ego.left)
+    index_of[2] = road_.lane(lane - 1).left;
+  if (lane < road_.lanesRight() && road_.lane(lane + 1).left == ego.right)
+    index_of[3] = road_.lane(lane + 1).right;
+  const int n = static_cast<int>(std::floor((s.gt_max_distance - s.gt_min_distance) / s.gt_step +
+                                            1e-9));
+  for (int label = 0; label < tools::kNumBoundaryLabels; ++label) {
+    const int b = index_of[label];
+    bool taken = b < 0 || !defs[b].present;
+    for (int other = 0; other < label && !taken; ++other) taken = index_of[other] == b;
+    if (taken) continue;  // absent, or already labelled (ego, next, road edge in this order)
+    const BoundaryDef& def = defs[b];
+    tools::TrueBoundary tb;
+    tb.label = static_cast<BoundaryLabel>(label);
+    tb.kind = def.kind;
+    tb.style = def.style;
+    tb.colour = def.colour;
+    tb.edge = def.edge;
     for (int k = 0; k <= n; ++k) {
-      const double s = p.s + settings_.gt_min_distance + k * settings_.gt_step;
-      const Eigen::Vector2d g = road_.point(s, offset);
-      line.push_back(Rt * (Eigen::Vector3d(g.x(), 0.0, g.y()) - p.position));
+      const double sk = p.s + s.gt_min_distance + k * s.gt_step;
+      // intersections interrupt the lines (stop line to resumption) and the shoulders' edges
+      if (road_.intersections() && (def.kind == BoundaryKind::kPaint ? road_.inLineGap(sk)
+                                                                     : road_.inCrossing(sk)))
+        continue;
+      const Eigen::Vector3d w = road_.surfacePoint(sk, def.offset);
+      tb.points.push_back(Rt * (w - p.position));
+      tb.points_base.push_back(Rb * (w - p.base));
     }
-  };
-  sample(road_.egoLeft(), f.left);
-  sample(road_.egoRight(), f.right);
-  f.has_lane = !f.left.empty() && !f.right.empty();
+    if (!tb.points.empty()) f.boundaries.push_back(std::move(tb));
+  }
+  f.syncEgoLines();
+  f.lane_optional = road_.distanceToLineGap(p.s) <= s.gt_required_range;
+  // vehicle frame and lane model
+  f.has_vehicle_frame = true;
+  f.base_to_camera.linear() = Rb * p.R_wc;
+  f.base_to_camera.translation() = Rb * (p.position - p.base);
+  const double left = defs[ego.left].offset, right = defs[ego.right].offset;
+  const double centre = 0.5 * (left + right);
+  f.lane.valid = f.has_lane;
+  f.lane.width = right - left;
+  f.lane.offset = centre - p.t;
+  f.lane.heading = road_.heading(p.s) - p.yaw;
+  const double k = road_.curvature();
+  f.lane.curvature = k == 0.0 ? 0.0 : -k / (1.0 - centre * k);
   return f;
 }
 
@@ -123,6 +254,9 @@ void Renderer::render(int index, RenderedFrame& out) const {
   ctx.gain = s.exposure *
              (1.0 + s.exposure_flicker * std::sin(2.0 * M_PI * index / s.flicker_period)) *
              (1.0 + s.exposure_adapt * underOverpass(*objects_, s, ctx.pose.s));
+  ctx.flat_ground = road_.profile().flat() && road_.sideZoneHeight() == 0.0;
+  ctx.urban = s.right_boundary != BoundaryType::kPaint || road_.hasTram() ||
+              road_.intersections();
   ctx.rail_left = road_.leftEdge() - s.shoulder_width;
   ctx.rail_right = road_.rightEdge() + s.shoulder_width;
   objects_->boxesAt(index, ctx.pose.s, ctx.boxes);

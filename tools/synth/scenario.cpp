@@ -50,6 +50,35 @@ bool parseColour(const std::string& text, cv::Vec3d& out) {
   return true;
 }
 
+// Name tables of the enum settings, indexed by the enum value.
+const char* const kMarkerNames[] = {"none", "solid", "dashed", "double"};
+const char* const kPaintNames[] = {"white", "yellow"};
+const char* const kBoundaryNames[] = {"paint", "kerb", "tram_rails", "asphalt_edge"};
+
+template <typename E, size_t N>
+bool parseEnum(const std::string& text, const char* const (&names)[N], E& out) {
+  for (size_t i = 0; i < N; ++i) {
+    if (text == names[i]) {
+      out = static_cast<E>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+template <typename E, size_t N>
+const char* enumName(E value, const char* const (&names)[N]) {
+  const size_t i = static_cast<size_t>(value);
+  return i < N ? names[i] : names[0];
+}
+
+// An urban two-lane street: narrower lanes, lamp posts, trees.
+void applyStreet(SceneSettings& s) {
+  s.lane_width = 3.5;
+  s.pole_period = 30.0;
+  s.canopy_shadows = 0.3;
+}
+
 void applyCloudyLight(SceneSettings& s) {
   s.ambient = 0.85;
   s.direct = 0.10;
@@ -75,7 +104,7 @@ std::vector<SettingField> settingFields(SceneSettings& s) {
       {"supersample", T::kInt, &s.supersample, "colour samples per pixel side"},
       {"camera_height", T::kDouble, &s.camera_height, "camera above the road (m)"},
       {"pitch_deg", T::kDouble, &s.pitch_deg, "camera pitch, positive down (deg)"},
-      {"roll_deg", T::kDouble, &s.roll_deg, "camera roll (deg)"},
+      {"roll_deg", T::kDouble, &s.roll_deg, "camera roll, right side up (deg)"},
       {"pitch_wobble_deg", T::kDouble, &s.pitch_wobble_deg, "pitch oscillation amplitude (deg)"},
       {"roll_wobble_deg", T::kDouble, &s.roll_wobble_deg, "roll oscillation amplitude (deg)"},
       {"wobble_period", T::kDouble, &s.wobble_period, "distance per wobble cycle (m)"},
@@ -96,6 +125,42 @@ std::vector<SettingField> settingFields(SceneSettings& s) {
       {"ego_right", T::kMarker, &s.ego_right, "ego lane right line"},
       {"separators", T::kMarker, &s.separators, "lines between the other lanes"},
       {"edges", T::kMarker, &s.edges, "outer road edge lines"},
+      {"double_line_gap", T::kDouble, &s.double_line_gap, "gap between double lines (m)"},
+      {"ego_left_colour", T::kPaint, &s.ego_left_colour, "ego left line colour (white, yellow)"},
+      {"ego_right_colour", T::kPaint, &s.ego_right_colour, "ego right line colour"},
+      {"yellow_paint", T::kColour, &s.yellow_paint, "yellow paint albedo (r,g,b)"},
+      {"oncoming_left", T::kBool, &s.oncoming_left, "oncoming traffic left of the ego lane"},
+      {"left_boundary", T::kBoundary, &s.left_boundary, "ego lane's left side (paint, tram_rails)"},
+      {"right_boundary", T::kBoundary, &s.right_boundary,
+       "ego lane's right side (paint, kerb, asphalt_edge)"},
+      {"kerb_height", T::kDouble, &s.kerb_height, "kerb face height (m)"},
+      {"kerb_width", T::kDouble, &s.kerb_width, "kerb stone top width (m)"},
+      {"sidewalk_width", T::kDouble, &s.sidewalk_width, "sidewalk width beyond the kerb (m)"},
+      {"kerb_albedo", T::kDouble, &s.kerb_albedo, "kerb stone albedo"},
+      {"sidewalk_albedo", T::kDouble, &s.sidewalk_albedo, "sidewalk albedo"},
+      {"tram_gauge", T::kDouble, &s.tram_gauge, "tram track gauge (m)"},
+      {"tram_head_width", T::kDouble, &s.tram_head_width, "rail head width (m)"},
+      {"tram_groove_width", T::kDouble, &s.tram_groove_width, "rail groove width (m)"},
+      {"tram_track_spacing", T::kDouble, &s.tram_track_spacing, "distance of the track centres (m)"},
+      {"edge_drop", T::kDouble, &s.edge_drop, "gravel below the asphalt edge (m)"},
+      {"gravel_width", T::kDouble, &s.gravel_width, "gravel strip width (m)"},
+      {"gravel_albedo", T::kDouble, &s.gravel_albedo, "gravel albedo"},
+      {"intersection_period", T::kDouble, &s.intersection_period,
+       "distance between intersections (m, 0 = none)"},
+      {"intersection_start", T::kDouble, &s.intersection_start, "first crossing road (m)"},
+      {"crossing_width", T::kDouble, &s.crossing_width, "crossing road width (m)"},
+      {"turn_arrows", T::kBool, &s.turn_arrows, "arrows before the stop line"},
+      {"vertical_radius", T::kDouble, &s.vertical_radius, "vertical curve radius (m, 0 = flat)"},
+      {"vertical_grade", T::kDouble, &s.vertical_grade, "grade between vertical curves"},
+      {"vertical_tangent", T::kDouble, &s.vertical_tangent, "constant-grade length (m)"},
+      {"vertical_flat", T::kDouble, &s.vertical_flat, "level road between cycles (m)"},
+      {"vertical_start", T::kDouble, &s.vertical_start, "start of the first crest (m)"},
+      {"lane_change_length", T::kDouble, &s.lane_change_length,
+       "road length of a lane change (m, 0 = none)"},
+      {"lane_change_start", T::kDouble, &s.lane_change_start, "start of the lane change (m)"},
+      {"lane_change_return", T::kDouble, &s.lane_change_return,
+       "start of the change back (m, 0 = none)"},
+      {"lane_change_lanes", T::kInt, &s.lane_change_lanes, "lanes moved (negative: left)"},
       {"asphalt_albedo", T::kDouble, &s.asphalt_albedo, "mean asphalt albedo"},
       {"asphalt_contrast", T::kDouble, &s.asphalt_contrast, "asphalt texture contrast"},
       {"crack_density", T::kDouble, &s.crack_density, "crack density (0..1)"},
@@ -136,13 +201,19 @@ std::vector<SettingField> settingFields(SceneSettings& s) {
       {"gt_min_distance", T::kDouble, &s.gt_min_distance, "first ground-truth sample ahead (m)"},
       {"gt_max_distance", T::kDouble, &s.gt_max_distance, "last ground-truth sample ahead (m)"},
       {"gt_step", T::kDouble, &s.gt_step, "ground-truth sample spacing (m)"},
+      {"gt_plane_min", T::kDouble, &s.gt_plane_min, "true plane fitted from here ahead (m)"},
+      {"gt_plane_max", T::kDouble, &s.gt_plane_max, "true plane fitted to here ahead (m)"},
+      {"gt_required_range", T::kDouble, &s.gt_required_range,
+       "lane optional when the ego lines end within this range (m)"},
   };
 }
 
 const std::vector<std::string>& scenarioNames() {
   static const std::vector<std::string> names = {
-      "summer",      "cloudy", "fog", "overpass", "solid", "dashed", "shadows", "lane_like_objects",
-      "no_markings", "curve"};
+      "summer",      "cloudy",       "fog",       "overpass",      "solid",
+      "dashed",      "shadows",      "lane_like_objects", "no_markings",   "curve",
+      "kerb",        "tram_rails",   "road_edge", "intersection",  "crest_sag",
+      "yellow_centre", "lane_change"};
   return names;
 }
 
@@ -198,6 +269,31 @@ bool applyScenario(const std::string& name, SceneSettings& s) {
     p.ego_left = p.ego_right = p.separators = p.edges = MarkerKind::kNone;
   } else if (name == "curve") {
     p.curvature = 1.0 / 300.0;
+  } else if (name == "kerb") {
+    applyStreet(p);
+    p.right_boundary = BoundaryType::kKerb;
+  } else if (name == "tram_rails") {
+    applyStreet(p);
+    p.left_boundary = BoundaryType::kTramRails;
+    p.oncoming_left = true;
+  } else if (name == "road_edge") {
+    p.lane_width = 3.5;
+    p.right_boundary = BoundaryType::kAsphaltEdge;
+  } else if (name == "intersection") {
+    applyStreet(p);
+    p.oncoming_left = true;
+    p.intersection_period = 130.0;
+  } else if (name == "crest_sag") {
+    p.vertical_radius = 1000.0;
+  } else if (name == "yellow_centre") {
+    p.oncoming_left = true;
+    p.ego_left = MarkerKind::kDouble;
+    p.ego_left_colour = PaintColour::kYellow;
+  } else if (name == "lane_change") {
+    p.lanes_right = 1;
+    p.ego_left = p.ego_right = MarkerKind::kDashed;
+    p.drift_amplitude = 0.2;
+    p.lane_change_length = 70.0;
   }
   s = p;
   applySensor(s.sensor, s);
@@ -230,27 +326,27 @@ bool applySensor(const std::string& name, SceneSettings& s) {
 }
 
 bool parseMarkerKind(const std::string& text, MarkerKind& kind) {
-  if (text == "none")
-    kind = MarkerKind::kNone;
-  else if (text == "solid")
-    kind = MarkerKind::kSolid;
-  else if (text == "dashed")
-    kind = MarkerKind::kDashed;
-  else
-    return false;
-  return true;
+  return parseEnum(text, kMarkerNames, kind);
 }
 
 const char* markerKindName(MarkerKind kind) {
-  switch (kind) {
-    case MarkerKind::kNone:
-      return "none";
-    case MarkerKind::kSolid:
-      return "solid";
-    case MarkerKind::kDashed:
-      return "dashed";
-  }
-  return "none";
+  return enumName(kind, kMarkerNames);
+}
+
+bool parsePaintColour(const std::string& text, PaintColour& colour) {
+  return parseEnum(text, kPaintNames, colour);
+}
+
+const char* paintColourName(PaintColour colour) {
+  return enumName(colour, kPaintNames);
+}
+
+bool parseBoundaryType(const std::string& text, BoundaryType& type) {
+  return parseEnum(text, kBoundaryNames, type);
+}
+
+const char* boundaryTypeName(BoundaryType type) {
+  return enumName(type, kBoundaryNames);
 }
 
 bool setSetting(SceneSettings& s, const std::string& key, const std::string& value,
@@ -277,6 +373,12 @@ bool setSetting(SceneSettings& s, const std::string& key, const std::string& val
         break;
       case T::kMarker:
         ok = parseMarkerKind(value, *static_cast<MarkerKind*>(f.value));
+        break;
+      case T::kPaint:
+        ok = parsePaintColour(value, *static_cast<PaintColour*>(f.value));
+        break;
+      case T::kBoundary:
+        ok = parseBoundaryType(value, *static_cast<BoundaryType*>(f.value));
         break;
     }
     if (!ok) error = "invalid value '" + value + "' for setting '" + key + "'";
@@ -314,8 +416,53 @@ bool validateSettings(const SceneSettings& s, std::string& error) {
     return fail("overpass_period must exceed overpass_length + 10 m");
   if (s.vehicles < 0 || s.trucks < 0 || s.vehicles + s.trucks > 40)
     return fail("vehicles + trucks must be 0..40");
-  if (!(s.gt_step > 0) || !(s.gt_max_distance > s.gt_min_distance))
+  if (!(s.gt_step > 0) || !(s.gt_max_distance > s.gt_min_distance) ||
+      !(s.gt_plane_min > 0) || !(s.gt_plane_max > s.gt_plane_min + 1.0) ||
+      !(s.gt_required_range >= 0))
     return fail("ground-truth sampling invalid");
+  if (!(s.double_line_gap > 0)) return fail("double_line_gap must be > 0");
+  if (s.left_boundary == BoundaryType::kKerb || s.left_boundary == BoundaryType::kAsphaltEdge)
+    return fail("left_boundary must be paint or tram_rails");
+  if (s.right_boundary == BoundaryType::kTramRails)
+    return fail("right_boundary must be paint, kerb or asphalt_edge");
+  if (s.right_boundary != BoundaryType::kPaint && s.lanes_right != 0)
+    return fail("a kerb or asphalt edge bounds the rightmost lane: lanes_right must be 0");
+  if (s.right_boundary == BoundaryType::kKerb &&
+      (!(s.kerb_height > 0.0 && s.kerb_height < 0.5) || !(s.kerb_width > 0) ||
+       !(s.sidewalk_width >= 0)))
+    return fail("kerb_height must be in (0, 0.5) m, kerb_width > 0, sidewalk_width >= 0");
+  if (s.right_boundary == BoundaryType::kAsphaltEdge &&
+      (!(s.edge_drop >= 0.0 && s.edge_drop < 0.5) || !(s.gravel_width >= 0)))
+    return fail("edge_drop must be in [0, 0.5) m and gravel_width >= 0");
+  if (s.left_boundary == BoundaryType::kTramRails &&
+      (!(s.tram_gauge > 0.5) || !(s.tram_head_width > 0.01) || !(s.tram_groove_width >= 0) ||
+       !(s.tram_track_spacing > s.tram_gauge + s.tram_head_width + 2 * s.tram_groove_width)))
+    return fail("tram track dimensions invalid (spacing must exceed one track's width)");
+  if (s.left_boundary == BoundaryType::kTramRails && s.lanes_left < 1)
+    return fail("tram_rails needs lanes_left >= 1 (the lanes beyond the tracks)");
+  if (s.intersection_period < 0 ||
+      (s.intersection_period > 0 && s.intersection_period < s.crossing_width + 60.0))
+    return fail("intersection_period must be 0 or exceed crossing_width + 60 m");
+  if (s.intersection_period > 0 &&
+      (!(s.crossing_width > 3.0) || s.right_boundary != BoundaryType::kPaint ||
+       s.left_boundary != BoundaryType::kPaint || s.vertical_radius > 0 || s.guard_rails))
+    return fail("intersections need crossing_width > 3 m on a flat road with paint on both "
+                "sides and no guard rails");
+  if (s.vertical_radius < 0 ||
+      (s.vertical_radius > 0 &&
+       (!(s.vertical_radius >= 100.0) || !(s.vertical_grade > 0 && s.vertical_grade <= 0.12) ||
+        !(s.vertical_tangent >= 0) || !(s.vertical_flat >= 0))))
+    return fail("vertical profile invalid (radius 0 or >= 100 m, grade in (0, 0.12])");
+  if (s.lane_change_length < 0 ||
+      (s.lane_change_length > 0 &&
+       (!(s.lane_change_length >= 20.0) || s.lane_change_lanes == 0 ||
+        s.lane_change_lanes < -s.lanes_left || s.lane_change_lanes > s.lanes_right ||
+        (s.lane_change_return > 0 &&
+         s.lane_change_return < s.lane_change_start + s.lane_change_length))))
+    return fail("lane change invalid (length >= 20 m, a target lane that exists, the return "
+                "after the change)");
+  if (s.lane_change_length > 0 && s.left_boundary != BoundaryType::kPaint)
+    return fail("a lane change needs paint on the left (no tram zone)");
   return true;
 }
 
@@ -345,6 +492,12 @@ std::string settingsToJson(const SceneSettings& settings) {
       }
       case T::kMarker:
         fs << f.name << std::string(markerKindName(*static_cast<MarkerKind*>(f.value)));
+        break;
+      case T::kPaint:
+        fs << f.name << std::string(paintColourName(*static_cast<PaintColour*>(f.value)));
+        break;
+      case T::kBoundary:
+        fs << f.name << std::string(boundaryTypeName(*static_cast<BoundaryType*>(f.value)));
         break;
     }
   }
@@ -386,6 +539,12 @@ bool readSettingsJson(const std::string& path, SceneSettings& s, std::string& er
         break;
       case T::kMarker:
         parseMarkerKind(static_cast<std::string>(n), *static_cast<MarkerKind*>(f.value));
+        break;
+      case T::kPaint:
+        parsePaintColour(static_cast<std::string>(n), *static_cast<PaintColour*>(f.value));
+        break;
+      case T::kBoundary:
+        parseBoundaryType(static_cast<std::string>(n), *static_cast<BoundaryType*>(f.value));
         break;
     }
   }

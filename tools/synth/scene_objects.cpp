@@ -17,6 +17,13 @@ Eigen::Matrix3d yawMatrix(double yaw) {
   return R;
 }
 
+// Tilts the box's forward axis (+z) up by pitch (a box on a grade).
+Eigen::Matrix3d pitchMatrix(double pitch) {
+  Eigen::Matrix3d R;
+  R << 1, 0, 0, 0, std::cos(pitch), std::sin(pitch), 0, -std::sin(pitch), std::cos(pitch);
+  return R;
+}
+
 const cv::Vec3d kCarColours[] = {{0.85, 0.85, 0.86}, {0.55, 0.56, 0.58}, {0.05, 0.05, 0.06},
                                  {0.10, 0.16, 0.40}, {0.55, 0.07, 0.06}, {0.20, 0.20, 0.22},
                                  {0.30, 0.33, 0.25}};
@@ -59,8 +66,11 @@ SceneObjects::SceneObjects(const SceneSettings& s, const RoadGeometry& road) : s
   std::mt19937 rng(static_cast<uint32_t>(s.seed) * 2654435761u + 17u);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
   std::vector<int> lanes;
+  // no traffic in the lanes the ego vehicle changes into (it would drive through it)
+  const int change_lo = s.lane_change_length > 0 ? std::min(0, s.lane_change_lanes) : 0;
+  const int change_hi = s.lane_change_length > 0 ? std::max(0, s.lane_change_lanes) : 0;
   for (int l = -s.lanes_left; l <= s.lanes_right; ++l)
-    if (l != 0) lanes.push_back(l);
+    if (l < change_lo || l > change_hi) lanes.push_back(l);
   // one relative speed per lane: vehicles of a lane never overlap
   std::vector<double> lane_speed(lanes.size());
   for (auto& v : lane_speed) v = -4.0 + 8.0 * uni(rng);
@@ -96,6 +106,10 @@ SceneObjects::SceneObjects(const SceneSettings& s, const RoadGeometry& road) : s
         }
         if (clear) break;
       }
+      if (s.oncoming_left && v.lane < 0) {
+        v.oncoming = true;
+        v.rel_speed -= 2.0 * s.speed;
+      }
       vehicles_.push_back(v);
     }
   }
@@ -114,8 +128,14 @@ void SceneObjects::addVehicle(const VehicleSpec& v, double s, std::vector<Box>& 
   Box b;
   const double t = road_.laneCentre(v.lane) + v.lateral;
   const Eigen::Vector2d g = road_.point(s, t);
-  b.R = yawMatrix(road_.heading(s));
+  b.R = yawMatrix(road_.heading(s) + (v.oncoming ? M_PI : 0.0));
   b.centre = Eigen::Vector3d(g.x(), 0.5 * v.height, g.y());
+  if (!road_.profile().flat()) {  // standing on the grade
+    b.R = yawMatrix(road_.heading(s)) * pitchMatrix(std::atan(road_.profile().grade(s))) *
+          yawMatrix(v.oncoming ? M_PI : 0.0);
+    b.centre = Eigen::Vector3d(g.x(), road_.profile().height(s), g.y()) +
+               b.R * Eigen::Vector3d(0.0, 0.5 * v.height, 0.0);
+  }
   b.half = Eigen::Vector3d(0.5 * v.width, 0.5 * v.height, 0.5 * v.length);
   b.kind = v.truck ? BoxKind::kTruck : BoxKind::kCar;
   b.albedo = v.colour;
@@ -147,7 +167,7 @@ void SceneObjects::boxesAt(int index, double cam_s, std::vector<Box>& out) const
         Box b;
         const Eigen::Vector2d g = road_.point(s, t);
         b.R = yawMatrix(road_.heading(s));
-        b.centre = Eigen::Vector3d(g.x(), 4.0, g.y());
+        b.centre = Eigen::Vector3d(g.x(), 4.0 + road_.profile().height(s), g.y());
         b.half = Eigen::Vector3d(0.09, 4.0, 0.09);
         b.kind = BoxKind::kPole;
         b.albedo = cv::Vec3d(0.45, 0.45, 0.47);
@@ -165,7 +185,8 @@ void SceneObjects::boxesAt(int index, double cam_s, std::vector<Box>& out) const
     Box deck;
     const Eigen::Vector2d g = road_.point(sm, tm);
     deck.R = yawMatrix(road_.heading(sm));
-    deck.centre = Eigen::Vector3d(g.x(), s_.overpass_clearance + 0.7, g.y());
+    const double ground = road_.profile().height(sm);
+    deck.centre = Eigen::Vector3d(g.x(), ground + s_.overpass_clearance + 0.7, g.y());
     deck.half = Eigen::Vector3d(half_w, 0.7, 0.5 * s_.overpass_length);
     deck.kind = BoxKind::kConcrete;
     deck.albedo = cv::Vec3d(0.55, 0.54, 0.52);
@@ -175,7 +196,7 @@ void SceneObjects::boxesAt(int index, double cam_s, std::vector<Box>& out) const
                      road_.rightEdge() + s_.shoulder_width + 1.5}) {
       Box p = deck;
       const Eigen::Vector2d q = road_.point(sm, t);
-      p.centre = Eigen::Vector3d(q.x(), 0.5 * s_.overpass_clearance, q.y());
+      p.centre = Eigen::Vector3d(q.x(), ground + 0.5 * s_.overpass_clearance, q.y());
       p.half = Eigen::Vector3d(0.6, 0.5 * s_.overpass_clearance, 0.35 * s_.overpass_length);
       out.push_back(p);
     }

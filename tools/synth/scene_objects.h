@@ -58,6 +58,7 @@ struct VehicleSpec {
   cv::Vec3d colour{0.5, 0.5, 0.5};
   bool truck = false;
   bool lead = false;  ///< ego-lane car ahead with an oscillating gap
+  bool oncoming = false;  ///< drives the other way (faces the camera)
 };
 
 /**

@@ -48,7 +48,9 @@ bool SequenceWriter::open(const std::string& dir, const SceneSettings& settings,
   dir_ = dir;
   settings_ = settings;
   K_ = K;
-  truth_.frames.clear();
+  truth_ = tools::SequenceTruth();
+  truth_.has_mount = true;
+  truth_.mount = nominalMount(settings);
   std::error_code ec;
   for (const char* sub : {SynthiaLayout::kRgb, SynthiaLayout::kDepth, SynthiaLayout::kLabels,
                           "GT/LANES", "CameraParams"}) {
@@ -78,10 +80,11 @@ bool SequenceWriter::write(int index, const RenderedFrame& frame, const tools::F
   encodeDepthCentimetres(frame.depth, depth_buf_);
   encodeLabels(frame.labels, label_buf_);
   try {
-    const std::vector<int> png = {cv::IMWRITE_PNG_COMPRESSION, 1};
-    if (!cv::imwrite((root / SynthiaLayout::kRgb / name).string(), frame.bgr, png) ||
-        !cv::imwrite((root / SynthiaLayout::kDepth / name).string(), depth_buf_, png) ||
-        !cv::imwrite((root / SynthiaLayout::kLabels / name).string(), label_buf_, png)) {
+    // OpenCV's default PNG settings are its fast ones (SUB filter, zlib level 1, RLE): twice as
+    // fast as an explicit level 1, which leaves libpng's adaptive filtering on (lossless either way)
+    if (!cv::imwrite((root / SynthiaLayout::kRgb / name).string(), frame.bgr) ||
+        !cv::imwrite((root / SynthiaLayout::kDepth / name).string(), depth_buf_) ||
+        !cv::imwrite((root / SynthiaLayout::kLabels / name).string(), label_buf_)) {
       error = "cannot write frame " + name + " under " + dir_;
       return false;
     }

@@ -32,6 +32,7 @@ constexpr double kPostWidth = 0.12;
 void FrameContext::prepare(int width, int height) {
   const Eigen::Matrix3d Rt = pose.R_wc.transpose();
   const cv::Rect2d image(0, 0, width, height);
+  const double floor = std::min(road->profile().minHeight(), std::min(0.0, road->sideZoneHeight()));
   for (Box& b : boxes) {
     double umin = 1e18, umax = -1e18, vmin = 1e18, vmax = -1e18;
     int behind = 0;
@@ -51,8 +52,9 @@ void FrameContext::prepare(int width, int height) {
         vmin = std::min(vmin, v);
         vmax = std::max(vmax, v);
       }
-      // ground footprint of the shadow: the corner and its projection along the sun
-      const Eigen::Vector3d g = c - (c.y() / std::max(sun.y(), 0.05)) * sun;
+      // ground footprint of the shadow: the corner and its projection along the sun down to
+      // the lowest ground (y = 0 on a flat road)
+      const Eigen::Vector3d g = c - ((c.y() - floor) / std::max(sun.y(), 0.05)) * sun;
       for (const Eigen::Vector3d& q : {c, g}) {
         fp[0] = std::min(fp[0], q.x());
         fp[1] = std::max(fp[1], q.x());
@@ -80,7 +82,9 @@ void FrameContext::trace(double u, double v, Hit& hit) const {
   const Eigen::Vector3d& o = pose.position;
   hit = Hit();
   double best = settings->max_range;
-  if (d.y() < -1e-9) {
+  if (!flat_ground) {
+    traceGround(o, d, best, hit);
+  } else if (d.y() < -1e-9) {
     const double l = -o.y() / d.y();
     if (l < best) {
       best = l;
@@ -105,11 +109,11 @@ void FrameContext::trace(double u, double v, Hit& hit) const {
       const double t_rail = side < 0 ? rail_left : rail_right;
       double l;
       if (!road->rayToLateral(o.x(), o.z(), d.x(), d.z(), t_rail, 1e-6, best, l)) continue;
-      const double y = o.y() + l * d.y();
-      if (y < 0.0 || y > settings->rail_height) continue;
       const Eigen::Vector3d p = o + l * d;
       double s, t;
       road->coordinates(p.x(), p.z(), pose.s, s, t);
+      const double y = p.y() - road->profile().height(s);  // above the road
+      if (y < 0.0 || y > settings->rail_height) continue;
       Hit::Kind kind = Hit::kRail;
       if (y < settings->rail_height - kRailBeamHeight) {
         double m = std::fmod(s, kPostSpacing);
@@ -126,11 +130,114 @@ void FrameContext::trace(double u, double v, Hit& hit) const {
     }
   }
   if (hit.kind == Hit::kNone) return;
-  hit.point = o + hit.lambda * d;
-  if (hit.kind == Hit::kGround) {
+  if (flat_ground || hit.kind != Hit::kGround) hit.point = o + hit.lambda * d;
+  if (hit.kind == Hit::kGround && flat_ground) {
     hit.point.y() = 0.0;
     road->coordinates(hit.point.x(), hit.point.z(), pose.s, hit.s, hit.t);
   }
+}
+
+bool FrameContext::surfaceHit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double offset,
+                              double max_l, double& l, double& s, double& t) const {
+  const VerticalProfile& profile = road->profile();
+  if (profile.flat()) {
+    if (d.y() > -1e-9) return false;
+    l = (offset - o.y()) / d.y();
+    if (!(l > 0.0 && l < max_l)) return false;
+    const Eigen::Vector3d p = o + l * d;
+    road->coordinates(p.x(), p.z(), pose.s, s, t);
+    return true;
+  }
+  if (road->curvature() == 0.0) {  // s = z along the ray: exact piecewise-quadratic solution
+    if (!profile.crossing(o.z(), d.z(), o.y(), d.y(), offset, max_l, l)) return false;
+    const Eigen::Vector3d p = o + l * d;
+    road->coordinates(p.x(), p.z(), pose.s, s, t);
+    return true;
+  }
+  // f(l) = height of the ray above the surface. Lipschitz steps (|f'| <= lip) never pass the
+  // first crossing; Newton steps on a numerical derivative finish it, bisection when one
+  // overshoots.
+  const auto f = [&](double lambda, double& ss, double& tt) {
+    const Eigen::Vector3d p = o + lambda * d;
+    road->coordinates(p.x(), p.z(), pose.s, ss, tt);
+    return p.y() - profile.height(ss) - offset;
+  };
+  const auto bisect = [&](double lo, double hi) {  // f(lo) > 0 > f(hi)
+    for (int k = 0; k < 60 && hi - lo > 1e-9; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (f(mid, s, t) > 0.0 ? lo : hi) = mid;
+    }
+    l = hi;
+    f(l, s, t);
+    return l < max_l;
+  };
+  const double arc = road->curvature() == 0.0 ? 1.0 : 1.5;  // ds / d(arc length) bound
+  const double lip = std::fabs(d.y()) + 1.05 * arc * profile.maxGrade() * std::hypot(d.x(), d.z());
+  double lambda = 0.0, value = f(0.0, s, t);
+  if (value <= 0.0) return false;
+  for (int it = 0; it < 600; ++it) {
+    if (value < 1e-3) {
+      for (int k = 0; k < 8; ++k) {
+        double s2, t2;
+        const double slope = (f(lambda + 1e-3, s2, t2) - value) / 1e-3;
+        if (slope >= 0.0) break;  // grazing: no crossing here
+        const double next = lambda - value / slope;
+        const double next_value = f(next, s2, t2);
+        if (next_value < 0.0) return bisect(lambda, next);
+        lambda = next;
+        value = next_value;
+        s = s2;
+        t = t2;
+        if (value < 1e-9) {
+          l = lambda;
+          return l < max_l;
+        }
+      }
+    }
+    const double previous = lambda;
+    lambda += std::max(value / lip, 1e-4);
+    if (lambda >= max_l) return false;
+    value = f(lambda, s, t);
+    if (value < 0.0) return bisect(previous, lambda);  // the bound is loose on arcs
+  }
+  return false;
+}
+
+void FrameContext::traceGround(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double& best,
+                               Hit& hit) const {
+  // The camera is above the ego lane. A raised zone (kerb) beyond side_start is met first on its
+  // top, else the ray meets the road, or the kerb's face between road and top. A lowered zone
+  // (asphalt edge) is met after the ray passed road level beyond its start.
+  const double zone = road->sideZoneHeight(), start = road->sideZoneStart();
+  double l, s, t;
+  const auto set = [&](Hit::Kind kind, double lambda, double ss, double tt) {
+    best = lambda;
+    hit.kind = kind;
+    hit.lambda = lambda;
+    hit.s = ss;
+    hit.t = tt;
+    hit.point = o + lambda * d;
+  };
+  if (zone > 0.0 && surfaceHit(o, d, zone, best, l, s, t) && t >= start) {
+    set(Hit::kGround, l, s, t);
+    return;
+  }
+  if (!surfaceHit(o, d, 0.0, best, l, s, t)) return;
+  if (zone == 0.0 || t <= start) {
+    set(Hit::kGround, l, s, t);
+  } else if (zone < 0.0) {
+    if (surfaceHit(o, d, zone, best, l, s, t)) set(Hit::kGround, l, s, t);
+  } else if (road->rayToLateral(o.x(), o.z(), d.x(), d.z(), start, 1e-6, best, l)) {
+    const Eigen::Vector3d p = o + l * d;
+    road->coordinates(p.x(), p.z(), pose.s, s, t);
+    const double y = p.y() - road->profile().height(s);
+    if (y >= -1e-6 && y <= zone + 1e-6) set(Hit::kKerbFace, l, s, start);
+  }
+}
+
+Eigen::Vector3d FrameContext::groundNormal(double s) const {
+  const double g = road->profile().grade(s), yaw = road->heading(s);
+  return Eigen::Vector3d(-g * std::sin(yaw), 1.0, -g * std::cos(yaw)).normalized();
 }
 
 uint8_t FrameContext::label(const Hit& hit) const {
@@ -142,8 +249,25 @@ uint8_t FrameContext::label(const Hit& hit) const {
     case Hit::kRail:
     case Hit::kRailPost:
       return kLabelFence;
+    case Hit::kKerbFace:
+      return kLabelKerb;
     case Hit::kGround: {
       if (road->markerAt(hit.s, hit.t) >= 0) return kLabelLaneMarking;
+      if (urban) {
+        const SceneSettings& s = *settings;
+        if (road->intersections() && road->roadMarkingAt(hit.s, hit.t) > 0)
+          return kLabelLaneMarking;
+        const double beyond = hit.t - road->sideZoneStart();
+        if (s.right_boundary == BoundaryType::kKerb && beyond > 0.0)
+          return beyond <= s.kerb_width                     ? kLabelKerb
+                 : beyond <= s.kerb_width + s.sidewalk_width ? kLabelSidewalk
+                                                             : kLabelVegetation;
+        if (s.right_boundary == BoundaryType::kAsphaltEdge && beyond > 0.0)
+          return beyond <= s.gravel_width ? kLabelTerrain : kLabelVegetation;
+        const int part = road->tramPartAt(hit.t);
+        if (part == 1 || part == 2) return kLabelRail;
+        if (road->intersections() && road->inCrossing(hit.s)) return kLabelRoad;
+      }
       const double l = road->leftEdge(), r = road->rightEdge();
       if (hit.t >= l && hit.t <= r) return kLabelRoad;
       const double sh = settings->shoulder_width;
@@ -160,7 +284,18 @@ uint32_t FrameContext::sampleKey(const Hit& hit) const {
   if (hit.kind == Hit::kGround) {
     key |= static_cast<uint32_t>(road->markerAt(hit.s, hit.t) + 1) << 20;
     if (settings->shadows && sunVisibility(hit.point, -1) < 0.5) key |= 1u << 28;
+    if (urban) key |= urbanKey(hit) << 12;  // box bits are free on the ground
   }
+  return key;
+}
+
+uint32_t FrameContext::urbanKey(const Hit& hit) const {
+  uint32_t key = static_cast<uint32_t>(road->tramPartAt(hit.t));  // 2 bits
+  if (road->intersections()) {
+    key |= static_cast<uint32_t>(road->roadMarkingAt(hit.s, hit.t)) << 2;  // 2 bits
+    key |= static_cast<uint32_t>(road->inCrossing(hit.s)) << 4;
+  }
+  if (kerbShadow(hit) > 0.5) key |= 1u << 5;
   return key;
 }
 
@@ -205,11 +340,10 @@ cv::Vec3d FrameContext::groundAlbedo(const Hit& hit, double footprint) const {
   const SceneSettings& s = *settings;
   const double x = hit.point.x(), z = hit.point.z(), t = hit.t, sr = hit.s;
   const double l = road->leftEdge(), r = road->rightEdge(), sh = s.shoulder_width;
-  if (t < l - sh - 0.05 || t > r + sh + 0.05) {  // grass
-    const double g = fbm(x, z, 3.0, 6, footprint, seed + 3);
-    const double patchy = fbm(x, z, 25.0, 2, footprint, seed + 4);
-    return cv::Vec3d(0.16, 0.28, 0.09) * (0.6 + 0.6 * g) + cv::Vec3d(0.08, 0.04, 0.02) * patchy;
-  }
+  const bool crossing = urban && road->intersections() && road->inCrossing(sr);
+  if (urban && s.right_boundary != BoundaryType::kPaint && t > road->sideZoneStart())
+    return sideZoneAlbedo(hit, footprint);
+  if (!crossing && (t < l - sh - 0.05 || t > r + sh + 0.05)) return grassAlbedo(x, z, footprint);
   // asphalt: fine grain + large blotches, repaired patches, cracks, tyre tracks
   const double grain = fbm(x, z, 2.0, 6, footprint, seed + 5);
   const double blotch = fbm(x, z, 30.0, 3, footprint, seed + 6);
@@ -242,15 +376,95 @@ cv::Vec3d FrameContext::groundAlbedo(const Hit& hit, double footprint) const {
       if (d < 0.35) a *= 1.0 - 0.07 * std::cos(d / 0.35 * M_PI_2);
     }
   }
-  if (t < l || t > r) a *= 1.12;  // shoulder: older, lighter surface
+  if (!crossing && (t < l || t > r)) a *= 1.12;  // shoulder: older, lighter surface
+  const int tram = urban ? road->tramPartAt(t) : 0;
+  if (tram == 1) return cv::Vec3d(0.30, 0.30, 0.32);  // rail head steel (specular in shade())
+  if (tram == 2) return cv::Vec3d(0.05, 0.05, 0.05);  // flangeway: a dark groove
+  if (tram == 3) {  // granite setts between the rails: 0.2 x 0.1 m, staggered rows, 1 cm joints
+    const double v = t / 0.1, row = std::floor(v);
+    const double u = sr / 0.2 + 0.5 * std::fmod(std::fabs(row), 2.0), col = std::floor(u);
+    const double joint = std::min(std::min(v - row, row + 1.0 - v) * 0.1,
+                                  std::min(u - col, col + 1.0 - u) * 0.2);
+    const double sett = 0.85 + 0.3 * hashUniform(seed + 41, static_cast<uint32_t>(row + 1e6),
+                                                  static_cast<uint32_t>(col + 1e6));
+    const double detail = std::min(1.0, 0.03 / footprint);  // the pattern fades with distance
+    const double pattern = (joint < 0.005 ? 0.6 : sett) * (0.9 + 0.2 * grain);
+    a = s.asphalt_albedo * 1.15 * (detail * pattern + (1.0 - detail) * 0.95);
+  }
+  if (urban && s.right_boundary == BoundaryType::kAsphaltEdge) {
+    // gravel spilled onto the last 15 cm of asphalt
+    const double inside = road->sideZoneStart() - t;
+    if (inside < 0.15 && fbm(x, z, 0.3, 3, footprint, seed + 51) > 0.42 + inside / 0.15 * 0.4)
+      return gravelAlbedo(x, z, footprint);
+  }
   cv::Vec3d c = cv::Vec3d(0.96, 0.99, 1.05) * a;
   const int m = road->markerAt(sr, t);
-  if (m >= 0) {
+  const int marking = m < 0 && urban && road->intersections() ? road->roadMarkingAt(sr, t) : 0;
+  if (m >= 0 || marking > 0) {
     const double wear = fbm(sr * 1.5, t * 5.0, 1.0, 4, footprint, seed + 12);
     const double cover = 1.0 - s.paint_wear * smoothstep(0.35, 0.75, wear) * 1.6;
-    c = mix(c, cv::Vec3d(1.0, 1.0, 0.97) * s.paint_albedo, clamp01(cover));
+    const bool yellow = m >= 0 && road->markers()[m].colour == PaintColour::kYellow;
+    c = mix(c, yellow ? s.yellow_paint : cv::Vec3d(1.0, 1.0, 0.97) * s.paint_albedo,
+            clamp01(cover));
   }
   return c;
+}
+
+cv::Vec3d FrameContext::grassAlbedo(double x, double z, double footprint) const {
+  const double g = fbm(x, z, 3.0, 6, footprint, seed + 3);
+  const double patchy = fbm(x, z, 25.0, 2, footprint, seed + 4);
+  return cv::Vec3d(0.16, 0.28, 0.09) * (0.6 + 0.6 * g) + cv::Vec3d(0.08, 0.04, 0.02) * patchy;
+}
+
+cv::Vec3d FrameContext::gravelAlbedo(double x, double z, double footprint) const {
+  const double stones = fbm(x, z, 0.06, 3, footprint, seed + 52);  // 1-6 cm stones
+  const double dirt = fbm(x, z, 2.0, 3, footprint, seed + 53);
+  return cv::Vec3d(1.06, 0.98, 0.86) * settings->gravel_albedo *
+         (0.7 + 0.6 * stones - 0.2 * (dirt - 0.5));
+}
+
+cv::Vec3d FrameContext::kerbAlbedo(double s, double footprint) const {
+  // granite kerb stones of 1 m with 1 cm joints, each a little different
+  const double stone = std::floor(s);
+  const double joint = std::min(s - stone, stone + 1.0 - s);
+  const double detail = std::min(1.0, 0.02 / footprint);
+  const double base = 0.92 + 0.16 * hashUniform(seed + 43, static_cast<uint32_t>(stone + 1e6));
+  const double grain = fbm(s * 3.0, 0.0, 0.2, 3, footprint, seed + 44);
+  const double v = (joint < 0.005 ? 0.6 * detail + (1.0 - detail) : 1.0) * base *
+                   (0.9 + 0.2 * grain);
+  return cv::Vec3d(0.97, 0.99, 1.02) * settings->kerb_albedo * v;
+}
+
+cv::Vec3d FrameContext::sideZoneAlbedo(const Hit& hit, double footprint) const {
+  const SceneSettings& s = *settings;
+  const double x = hit.point.x(), z = hit.point.z();
+  const double beyond = hit.t - road->sideZoneStart();
+  if (s.right_boundary == BoundaryType::kKerb) {
+    if (beyond <= s.kerb_width) return kerbAlbedo(hit.s, footprint);
+    if (beyond > s.kerb_width + s.sidewalk_width) return grassAlbedo(x, z, footprint);
+    // concrete sidewalk tiles of 0.3 m with dark joints, stains
+    const double u = hit.s / 0.3, v = (beyond - s.kerb_width) / 0.3;
+    const double joint = std::min({u - std::floor(u), std::ceil(u) - u, v - std::floor(v),
+                                   std::ceil(v) - v}) * 0.3;
+    const double detail = std::min(1.0, 0.03 / footprint);
+    const double stain = fbm(x, z, 4.0, 4, footprint, seed + 45);
+    const double tile = 0.95 + 0.1 * hashUniform(seed + 46, static_cast<uint32_t>(u + 1e6),
+                                                 static_cast<uint32_t>(v + 1e6));
+    const double a = s.sidewalk_albedo * tile * (0.85 + 0.3 * stain) *
+                     (joint < 0.006 ? 0.7 * detail + (1.0 - detail) : 1.0);
+    return cv::Vec3d(1.0, 0.99, 0.96) * a;
+  }
+  return beyond <= s.gravel_width ? gravelAlbedo(x, z, footprint) : grassAlbedo(x, z, footprint);
+}
+
+double FrameContext::kerbShadow(const Hit& hit) const {
+  if (settings->right_boundary != BoundaryType::kKerb || !settings->shadows) return 0.0;
+  const double gap = road->sideZoneStart() - hit.t;  // road points before the face
+  if (gap < 0.0 || gap > 1.0 || hit.kind != Hit::kGround) return 0.0;
+  const double yaw = road->heading(hit.s);
+  const double toward = sun.x() * std::cos(yaw) - sun.z() * std::sin(yaw);  // sun toward +t
+  if (toward <= 1e-6) return 0.0;
+  return sun.y() * gap / toward < settings->kerb_height ? 1.0 : 0.0;
 }
 
 cv::Vec3d FrameContext::boxAlbedo(const Box& box, const BoxHit& h) const {
@@ -314,9 +528,19 @@ cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double
     Eigen::Vector3d n(0, 1, 0);
     int self = -1;
     double vis = 1.0;
+    double specular = 0.0;
     if (hit.kind == Hit::kGround) {
       albedo = groundAlbedo(hit, footprint);
       vis = 1.0 - canopyShadow(hit.point.x(), hit.point.z(), hit.t);
+      if (!road->profile().flat()) n = groundNormal(hit.s);
+      if (urban) {
+        vis *= 1.0 - kerbShadow(hit);
+        if (road->tramPartAt(hit.t) == 1) specular = 0.75;  // polished rail heads mirror the sky
+      }
+    } else if (hit.kind == Hit::kKerbFace) {
+      albedo = kerbAlbedo(hit.s, footprint) * 0.9;
+      const double yaw = road->heading(hit.s);
+      n = -Eigen::Vector3d(std::cos(yaw), 0, -std::sin(yaw));  // faces the road
     } else if (hit.kind == Hit::kBox) {
       const Box& b = boxes[hit.box];
       albedo = boxAlbedo(b, hit.box_hit);
@@ -334,6 +558,11 @@ cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double
     const double ndl = std::max(0.0, n.dot(sun));
     if (ndl > 0 && vis > 0) vis *= sunVisibility(hit.point, self);
     c = mul(albedo, ambient_light * (0.75 + 0.25 * n.y()) + sun_light * (ndl * vis));
+    if (specular > 0.0) {  // a rough steel mirror: the reflected sky's brightness
+      const cv::Vec3d sky_seen = mix(sky(dir - 2.0 * dir.dot(n) * n), s.sky_horizon, 0.6);
+      const double lum = 0.3 * sky_seen[0] + 0.59 * sky_seen[1] + 0.11 * sky_seen[2];
+      c = mix(c, cv::Vec3d(0.97, 0.99, 1.0) * (1.1 * lum), specular);
+    }
     // aerial perspective in clear air, then fog
     c = mix(c, s.sky_horizon, 1.0 - std::exp(-hit.lambda / 1500.0));
   }

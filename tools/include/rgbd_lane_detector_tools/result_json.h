@@ -6,10 +6,13 @@
  * {"frame": 12, "name": "000012", "stamp": 1.2, "status": "ok",
  *  "timings_ms": {"preprocess": .., ..., "total": ..},
  *  "plane": {"valid": true, "normal": [x, y, z], "distance": d, "rms": r},
- *  "left": {"found": true, "peak_score": s, "angle": rad, "angle_valid": true,
- *           "pixels": [[u, v], ...], "points": [[x, y, z] | null, ...], "scores": [...]},
+ *  "left": {"found": true, "kind": "paint", "confidence": c, "peak_score": s, "angle": rad,
+ *           "angle_valid": true, "pixels": [[u, v], ...], "points": [[x, y, z] | null, ...],
+ *           "scores": [...]},
  *  "right": {...},
- *  "score": {"outcome": "TP", "angle_error_deg": .., "offset_error": ..}}   (with ground truth)
+ *  "score": {"outcome": "TP", "lane_required": true, "plane_ok": true, "angle_error_deg": ..,
+ *            "offset_error": .., "left": {"truth": "paint", "outcome": "correct", "points": n,
+ *            "inliers": n, "mean_lateral": m}, "right": {...}}}   (with ground truth)
  * @endcode
  * Non-finite numbers are written as null.
  */

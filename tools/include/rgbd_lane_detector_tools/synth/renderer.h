@@ -27,11 +27,24 @@ struct CameraPose {
   Eigen::Matrix3d R_wc = Eigen::Matrix3d::Identity();  ///< optical frame -> world rotation
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world position
   double s = 0.0;                                      ///< road position
-  double t = 0.0;      ///< lateral offset from the ego lane centre (m, positive right)
+  double t = 0.0;      ///< lateral offset from the initial ego lane's centre (m, positive right)
   double yaw = 0.0;    ///< rad, positive right
-  double pitch = 0.0;  ///< rad, positive down
+  double pitch = 0.0;  ///< rad, positive down, relative to the vehicle
   double roll = 0.0;   ///< rad
+  double height = 0.0;         ///< camera above the road along the vehicle's up axis (m)
+  double vehicle_pitch = 0.0;  ///< rad, nose up: the road's grade under the vehicle
+  Eigen::Vector3d base = Eigen::Vector3d::Zero();  ///< world: the road point under the camera
 };
+
+/**
+ * @brief Rotation world <- base_link of a vehicle with heading @p yaw (rad, positive right, as
+ * CameraPose) pitched nose-up by @p pitch: its rows are base_link's x (forward), y (left), z
+ * (up) in world coordinates, so p_base = R (p_world - base).
+ */
+Eigen::Matrix3d baseFromWorld(double yaw, double pitch);
+
+/// Nominal camera mount: the optical frame in base_link (camera_height, pitch_deg, roll_deg).
+Eigen::Isometry3d nominalMount(const SceneSettings& settings);
 
 /// Images of one rendered frame.
 struct RenderedFrame {
@@ -61,7 +74,8 @@ class Renderer {
   Intrinsics intrinsics() const;
   /// Camera pose of frame @p index.
   CameraPose pose(int index) const;
-  /// Ground-truth plane and ego marker centre lines of frame @p index.
+  /// Ground truth of frame @p index (plane, boundaries, vehicle frame, lane model; see
+  /// ground_truth.h for the definitions).
   tools::FrameTruth truth(int index) const;
   /// Render frame @p index (parallel over rows with cv::parallel_for_).
   void render(int index, RenderedFrame& out) const;

@@ -17,11 +17,24 @@
 namespace rgbd_lane_detector {
 namespace synth {
 
-/// Bumped whenever rendering changes, so cached sequences are regenerated.
-constexpr int kGeneratorVersion = 1;
+/// Bumped whenever rendering or the ground truth changes, so cached sequences are regenerated.
+/// Version 2: urban scenarios (kerb, tram rails, road edge, intersections, crest and sag, yellow
+/// centre line, lane change) and the extended ground truth (ground_truth.h).
+constexpr int kGeneratorVersion = 2;
 
-/// Painted line style.
-enum class MarkerKind : int { kNone = 0, kSolid = 1, kDashed = 2 };
+/// Painted line style (kDouble: two solid lines, double_line_gap apart).
+enum class MarkerKind : int { kNone = 0, kSolid = 1, kDashed = 2, kDouble = 3 };
+
+/// Paint colour of a line.
+enum class PaintColour : int { kWhite = 0, kYellow = 1 };
+
+/**
+ * @brief What bounds the ego lane on one side.
+ * kPaint: the painted line of ego_left / ego_right; kKerb (right side only): a raised kerb and a
+ * sidewalk; kTramRails (left side only): a double tram track flush with the road, its nearest
+ * rail on the lane boundary; kAsphaltEdge (right side only): the asphalt ends (gravel, grass).
+ */
+enum class BoundaryType : int { kPaint = 0, kKerb = 1, kTramRails = 2, kAsphaltEdge = 3 };
 
 /// Class ids written to GT/LABELS (R channel), following SYNTHIA's numbering.
 enum LabelClass : uint8_t {
@@ -34,7 +47,11 @@ enum LabelClass : uint8_t {
   kLabelVegetation = 6,
   kLabelPole = 7,
   kLabelCar = 8,  ///< cars and trucks
-  kLabelLaneMarking = 12,
+  kLabelLaneMarking = 12,  ///< lines, stop lines, zebra crossings, arrows
+  // beyond SYNTHIA's classes (generator version 2)
+  kLabelKerb = 16,     ///< kerb stones: the vertical face and the top
+  kLabelRail = 17,     ///< tram rail heads and their grooves
+  kLabelTerrain = 18,  ///< gravel beside an unpainted asphalt edge
 };
 
 /**
@@ -57,7 +74,7 @@ struct SceneSettings {
   // --- camera motion ---
   double camera_height = 1.5;
   double pitch_deg = 3.0;  ///< positive looks down
-  double roll_deg = 0.0;
+  double roll_deg = 0.0;   ///< positive raises the image's right side (REP-103 roll = -roll_deg)
   double pitch_wobble_deg = 0.3;  ///< amplitude of a sinusoidal pitch change (road bumps)
   double roll_wobble_deg = 0.4;
   double wobble_period = 37.0;    ///< m travelled per wobble cycle
@@ -80,6 +97,46 @@ struct SceneSettings {
   MarkerKind ego_right = MarkerKind::kSolid;
   MarkerKind separators = MarkerKind::kDashed;  ///< lines between other lanes
   MarkerKind edges = MarkerKind::kSolid;        ///< outer road edges (when not an ego line)
+  double double_line_gap = 0.12;                ///< gap between the two lines of a double line
+  PaintColour ego_left_colour = PaintColour::kWhite;
+  PaintColour ego_right_colour = PaintColour::kWhite;
+  cv::Vec3d yellow_paint{0.80, 0.62, 0.14};  ///< albedo of yellow road paint (RGB)
+  bool oncoming_left = false;  ///< the lanes left of the ego lane carry oncoming traffic
+
+  // --- what bounds the ego lane (urban scenarios) ---
+  BoundaryType left_boundary = BoundaryType::kPaint;   ///< kPaint or kTramRails
+  BoundaryType right_boundary = BoundaryType::kPaint;  ///< kPaint, kKerb or kAsphaltEdge
+  double kerb_height = 0.13;        ///< height of the kerb face above the road
+  double kerb_width = 0.15;         ///< width of the kerb stones' top
+  double sidewalk_width = 3.0;      ///< raised sidewalk beyond the kerb (then grass)
+  double kerb_albedo = 0.56;        ///< light granite / concrete kerb stones
+  double sidewalk_albedo = 0.44;    ///< concrete sidewalk tiles
+  double tram_gauge = 1.435;        ///< between the rails' inner faces
+  double tram_head_width = 0.07;    ///< rail head (the bright steel top)
+  double tram_groove_width = 0.04;  ///< dark flangeway beside each head (gauge side)
+  double tram_track_spacing = 3.0;  ///< between the centres of the two tracks
+  double edge_drop = 0.04;          ///< gravel below the asphalt edge
+  double gravel_width = 0.8;        ///< gravel strip beyond the asphalt edge (then grass)
+  double gravel_albedo = 0.40;
+
+  // --- intersections ---
+  double intersection_period = 0.0;  ///< m between intersections (0 = none)
+  double intersection_start = 100.0;  ///< road position of the first crossing road's near edge
+  double crossing_width = 9.0;        ///< width of the crossing road (m along the road)
+  bool turn_arrows = true;            ///< arrows in the lanes before the stop line
+
+  // --- vertical profile (crest and sag) ---
+  double vertical_radius = 0.0;    ///< radius of the vertical curves (0 = flat road)
+  double vertical_grade = 0.04;    ///< grade of the tangents between the curves
+  double vertical_tangent = 40.0;  ///< length of each constant-grade tangent
+  double vertical_flat = 60.0;     ///< level road between two crest-sag cycles
+  double vertical_start = 30.0;    ///< road position where the first crest begins
+
+  // --- lane change ---
+  double lane_change_length = 0.0;    ///< m of road per lane change (0 = none)
+  double lane_change_start = 150.0;   ///< road position where the change begins
+  double lane_change_return = 400.0;  ///< where the change back begins (0 = no return)
+  int lane_change_lanes = -1;         ///< lanes moved (negative: to the left)
 
   // --- materials ---
   double asphalt_albedo = 0.30;
@@ -130,11 +187,14 @@ struct SceneSettings {
   double gt_min_distance = 3.0;
   double gt_max_distance = 60.0;
   double gt_step = 0.5;
+  double gt_plane_min = 3.0;       ///< the true plane fits the ego lane's surface from here...
+  double gt_plane_max = 20.0;      ///< ...to here ahead (matters on a non-planar road)
+  double gt_required_range = 20.0;  ///< lane_optional: the ego lines end within this range
 };
 
 /// One entry of the settings table.
 struct SettingField {
-  enum class Type { kInt, kDouble, kBool, kString, kColour, kMarker };
+  enum class Type { kInt, kDouble, kBool, kString, kColour, kMarker, kPaint, kBoundary };
   const char* name;
   Type type;
   void* value;
@@ -181,9 +241,15 @@ std::string settingsToJson(const SceneSettings& s);
  */
 bool readSettingsJson(const std::string& path, SceneSettings& s, std::string& error);
 
-/// Marker kind from "none", "solid" or "dashed".
+/// Marker kind from "none", "solid", "dashed" or "double".
 bool parseMarkerKind(const std::string& text, MarkerKind& kind);
 const char* markerKindName(MarkerKind kind);
+/// Paint colour from "white" or "yellow".
+bool parsePaintColour(const std::string& text, PaintColour& colour);
+const char* paintColourName(PaintColour colour);
+/// Boundary type from "paint", "kerb", "tram_rails" or "asphalt_edge".
+bool parseBoundaryType(const std::string& text, BoundaryType& type);
+const char* boundaryTypeName(BoundaryType type);
 
 }  // namespace synth
 }  // namespace rgbd_lane_detector
