@@ -80,6 +80,40 @@ class BoundaryClassifier {
                 const Params& p, BoundaryEvidence& ev);
 
   /**
+   * @brief Follow a painted line row by row: on every image row from the bottom of the image
+   * (or the road's nearest visible row) to the far end of the line, the centre of the bright band
+   * near the line's predicted column (sub-pixel, brightness-weighted over the band at half its
+   * contrast), predicted from the trace and then from the last rows found (a straight or gently
+   * curving line). The traced centroids of the sliding box sit anywhere on the matched blob;
+   * this puts the line on the paint's centre to a fraction of a pixel, and continues it past the
+   * trace's ends across dash gaps of up to @p max_gap metres.
+   * @param[in] in frame views.
+   * @param[in,out] pixels traced centroids (input pixels), near to far; replaced by the rows
+   *                found (unchanged when fewer than 3 rows are found).
+   * @param[out] points their depth points (optical frame, NaN where no depth).
+   * @param[in] p thresholds (paint_contrast, paint_width_max).
+   * @param[in] max_gap longest gap between painted stretches that is crossed (m).
+   * @param[in] max_range farthest road distance followed (m).
+   */
+  void followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
+                  double max_range);
+
+  /**
+   * @brief Put a road edge where the road surface ends: on each row of the line, scanning from
+   * the road well inside the line outward, the first pixel that is no longer road (brighter by
+   * the paint contrast, or of another colour by edge_chroma; darker alone is a shadow, not an
+   * edge) and stays so. A kerb is traced on its bright top; its edge is the bottom of its face.
+   * @param[in] in frame views.
+   * @param[in,out] pixels the line's points (input pixels), moved onto the edge where found.
+   * @param[out] points their depth points (optical frame, NaN where none).
+   * @param[in] left side of the vehicle the line is on.
+   * @param[in] p thresholds (paint_contrast, edge_chroma).
+   */
+  void locateEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                  std::vector<Eigen::Vector3f>& points, bool left, const Params& p);
+
+  /**
    * @brief Paint along a reported boundary: the share of its length with paint on it (a solid
    * line about 1, a dashed one its dash / period) and how yellow that paint is.
    * @param[in] in frame views.
@@ -101,6 +135,14 @@ class BoundaryClassifier {
   void sample(const ClassifierInput& in, int u, int v, float& grey, float& r, float& g) const;
   /// Height above the road of the depth at an input pixel (NaN without depth).
   float heightAt(const ClassifierInput& in, int u, int v) const;
+  /// Depth point (optical frame) at an input pixel, NaN without depth.
+  Eigen::Vector3f pointAt(const ClassifierInput& in, int u, int v) const;
+  /**
+   * @brief Centre of the bright band on row @p v within @p half px of column @p u (sub-pixel).
+   * @return false when no band stands out by the paint contrast or it is wider than @p max_px.
+   */
+  bool bandCentre(const ClassifierInput& in, int v, double u, int half, double max_px,
+                  const Params& p, double& centre);
 
   /// A bright band of the current profile: half-peak edges (profile offsets, sub-pixel).
   struct Band {
@@ -133,6 +175,8 @@ class BoundaryClassifier {
   std::vector<float> profile_;
   std::vector<Band> bands_;
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
+  std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
+  std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
 };
 
 }  // namespace rgbd_lane_detector

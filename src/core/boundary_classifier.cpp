@@ -27,6 +27,11 @@ constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint 
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
+constexpr double kFollowReach = 0.15;        // m: a followed row's band is sought this close
+constexpr size_t kFollowFit = 12;            // rows of the line through the last ones found
+constexpr double kEdgeReference[2] = {0.7, 1.0};  // m inside a road edge: the road's look
+constexpr double kEdgeBeyond = 0.2;          // m: an edge is sought up to this far beyond the line
+constexpr double kEdgeRun = 0.04;            // m of not-road in a row that make the edge
 
 float median(std::vector<float>& v) {
   if (v.empty()) return kNaN;
@@ -212,6 +217,193 @@ bool BoundaryClassifier::measureRow(const ClassifierInput& in, const cv::Point2f
     }
   }
   return true;
+}
+
+Eigen::Vector3f BoundaryClassifier::pointAt(const ClassifierInput& in, int u, int v) const {
+  const cv::Mat& P = *in.points;
+  const int x = static_cast<int>((u + 0.5) * in.scale_x);
+  const int y = static_cast<int>((v + 0.5) * in.scale_y);
+  if (x < 0 || y < 0 || x >= P.cols || y >= P.rows) return Eigen::Vector3f::Constant(kNaN);
+  const float* q = P.ptr<float>(y) + 3 * x;
+  return Eigen::Vector3f(q[0], q[1], q[2]);
+}
+
+bool BoundaryClassifier::bandCentre(const ClassifierInput& in, int v, double u, int half,
+                                    double max_px, const Params& p, double& centre) {
+  const int margin = std::max(3, half);
+  const int u0 = static_cast<int>(std::lround(u));
+  const int W = half + margin;
+  if (u0 - W < 0 || u0 + W >= in.colour->cols || v < 0 || v >= in.colour->rows) return false;
+  profile_.resize(2 * W + 1);
+  for (int k = -W; k <= W; ++k) {
+    float r, g;
+    sample(in, u0 + k, v, profile_[k + W], r, g);
+  }
+  // the road beside the window, and the brightest pixel in it
+  side_.clear();
+  for (int k = -W; k <= W; ++k)
+    if (std::abs(k) > half) side_.push_back(profile_[k + W]);
+  const float bg = median(side_);
+  int kp = -half;
+  for (int k = -half; k <= half; ++k)
+    if (profile_[k + W] > profile_[kp + W]) kp = k;
+  const float peak = profile_[kp + W];
+  if (peak - bg < std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(bg, 1.0f)))
+    return false;
+  const float level = bg + 0.5f * (peak - bg);
+  int l = kp, r = kp;
+  while (l - 1 >= -W && profile_[l - 1 + W] >= level) --l;
+  while (r + 1 <= W && profile_[r + 1 + W] >= level) ++r;
+  if (r - l + 1 > max_px || l == -W || r == W) return false;
+  double sw = 0.0, sx = 0.0;
+  for (int k = l; k <= r; ++k) {
+    const double w = profile_[k + W] - level + 1e-3;
+    sw += w;
+    sx += w * k;
+  }
+  centre = u0 + sx / sw;
+  return true;
+}
+
+void BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                    std::vector<Eigen::Vector3f>& points, const Params& p,
+                                    double max_gap, double max_range) {
+  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return;
+  const Intrinsics& K = in.K;
+  const Eigen::Vector3d& n = in.plane->normal;
+  const double d = in.plane->distance;
+  // the trace by row, near (bottom) to far (top)
+  int v_near = 0, v_far = in.colour->rows;
+  for (const auto& c : pixels) {
+    v_near = std::max(v_near, static_cast<int>(std::lround(c.y)));
+    v_far = std::min(v_far, static_cast<int>(std::lround(c.y)));
+  }
+  auto traceColumn = [&](double v) {  // the trace polyline's column at row v (rows decrease)
+    for (size_t i = 1; i < pixels.size(); ++i) {
+      const cv::Point2f& a = pixels[i - 1];
+      const cv::Point2f& b = pixels[i];
+      if ((v <= a.y && v >= b.y) || (v >= a.y && v <= b.y)) {
+        const double t = std::fabs(b.y - a.y) > 1e-6 ? (v - a.y) / (b.y - a.y) : 0.0;
+        return a.x + t * (b.x - a.x);
+      }
+    }
+    return static_cast<double>(v >= pixels.front().y ? pixels.front().x : pixels.back().x);
+  };
+  // forward distance of a road pixel, and pixels per metre across the road there
+  auto road = [&](double u, int v, double& f, double& ppm) {
+    const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+    const double den = n.dot(ray);
+    if (!(den < -1e-9)) return false;
+    const double t = -d / den;
+    f = in.frame.toPlane(ray * t).x();
+    ppm = K.fx / t;
+    return f > 0.0 && f <= max_range && ppm >= 1.5;
+  };
+  // One direction from the trace: rows v0, v0 + step, ...; inside the trace's rows the column
+  // comes from the trace, outside it from a line through the last rows found.
+  auto follow = [&](int v0, int step, std::vector<cv::Point2f>& out) {
+    out.clear();
+    double last_f = -1.0;
+    for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
+      const bool inside = v <= v_near && v >= v_far;
+      double u;
+      if (inside || out.size() < 2) {
+        u = inside || out.empty() ? traceColumn(v) : out.back().x;
+      } else {  // least-squares line u(v) through the last rows found
+        const size_t m = std::min<size_t>(out.size(), kFollowFit);
+        double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
+        for (size_t i = out.size() - m; i < out.size(); ++i) {
+          s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
+              suv += out[i].x * out[i].y;
+        }
+        const double den = s1 * svv - sv * sv;
+        const double b = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
+        u = (su - b * sv) / s1 + b * v;
+      }
+      double f = 0.0, ppm = 0.0;
+      if (!road(u, v, f, ppm)) {
+        if (!inside) break;
+        continue;
+      }
+      if (!inside && last_f >= 0.0 && std::fabs(f - last_f) > max_gap) break;  // past the line
+      const int half = std::min(24, std::max(2, static_cast<int>(std::lround(kFollowReach * ppm))));
+      double centre;
+      if (bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre)) {
+        out.emplace_back(static_cast<float>(centre), static_cast<float>(v));
+        last_f = f;
+      } else if (!inside && last_f < 0.0 && out.empty()) {
+        last_f = f;  // a gap from the trace's end on
+      }
+    }
+  };
+  follow(v_near, -1, followed_);           // from the trace's nearest row to the far end
+  follow(v_near + 1, 1, followed_near_);   // below it, toward the car
+  if (followed_.size() + followed_near_.size() < 3) return;
+  pixels.clear();
+  points.clear();
+  for (auto it = followed_near_.rbegin(); it != followed_near_.rend(); ++it) pixels.push_back(*it);
+  pixels.insert(pixels.end(), followed_.begin(), followed_.end());
+  for (const auto& c : pixels)
+    points.push_back(pointAt(in, static_cast<int>(std::lround(c.x)), static_cast<int>(std::lround(c.y))));
+}
+
+void BoundaryClassifier::locateEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                    std::vector<Eigen::Vector3f>& points, bool left,
+                                    const Params& p) {
+  if (in.plane == nullptr || !in.plane->valid) return;
+  const Intrinsics& K = in.K;
+  const int out_dir = left ? -1 : 1;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    cv::Point2f& c = pixels[i];
+    const int v = static_cast<int>(std::lround(c.y));
+    if (v < 0 || v >= in.colour->rows) continue;
+    const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+    const double den = in.plane->normal.dot(ray);
+    if (!(den < -1e-9)) continue;
+    const double ppm = K.fx * (-den) / in.plane->distance;  // pixels per metre across the road
+    if (ppm < kMinPixelsPerMetre) continue;
+    const int u0 = static_cast<int>(std::lround(c.x));
+    const int ref0 = static_cast<int>(std::lround(kEdgeReference[0] * ppm));
+    const int ref1 = static_cast<int>(std::lround(kEdgeReference[1] * ppm));
+    const int beyond = static_cast<int>(std::lround(kEdgeBeyond * ppm));
+    if (u0 - out_dir * ref1 < 0 || u0 - out_dir * ref1 >= in.colour->cols ||
+        u0 + out_dir * beyond < 0 || u0 + out_dir * beyond >= in.colour->cols)
+      continue;
+    // the road well inside the line: its grey and colour
+    side_.clear();
+    double sr = 0.0, sg = 0.0;
+    for (int k = ref0; k <= ref1; ++k) {
+      float grey, r, g;
+      sample(in, u0 - out_dir * k, v, grey, r, g);
+      side_.push_back(grey);
+      sr += r;
+      sg += g;
+    }
+    const float road = median(side_);
+    const float road_r = static_cast<float>(sr / side_.size()), road_g = static_cast<float>(sg / side_.size());
+    const float brighter = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(road, 1.0f));
+    // outward: the first pixel of kEdgeRun in a row that is not road
+    const int run = std::max(2, static_cast<int>(std::lround(kEdgeRun * ppm)));
+    int count = 0, first = 0;
+    bool found = false;
+    for (int k = -ref0; k <= beyond; ++k) {
+      float grey, r, g;
+      sample(in, u0 + out_dir * k, v, grey, r, g);
+      const bool other = grey - road >= brighter || std::hypot(r - road_r, g - road_g) >= p.edge_chroma;
+      if (!other) {
+        count = 0;
+        continue;
+      }
+      if (count++ == 0) first = k;
+      if (count >= run) {
+        found = true;
+        break;
+      }
+    }
+    if (!found) continue;
+    c.x = static_cast<float>(u0 + out_dir * (first - 0.5));
+    points[i] = pointAt(in, static_cast<int>(std::lround(c.x)), v);
+  }
 }
 
 void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,

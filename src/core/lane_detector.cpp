@@ -63,6 +63,7 @@ double angleFromHorizontalDeg(double angle, bool left) {
 
 // Keep a template angle inside the half-plane of its side, away from horizontal/vertical.
 constexpr int kMaxSeedRetries = 4;
+constexpr double kFollowGap = 10.0;  // m: dash gaps a followed line crosses (9 m on highways)
 
 double clampAngle(double angle, bool left) {
   const double lo = 10.0 * M_PI / 180.0, hi = 88.0 * M_PI / 180.0;
@@ -440,6 +441,14 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
     for (int k = 0; k < candidate_count_[side]; ++k) {
       BoundaryCandidate& c = candidates_[side][k];
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+      // a painted line: on the paint's centre, row by row, and as far as it goes
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint)
+        classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
+                               params_.max_depth);
+      // a kerb or an unpainted edge: where the road surface ends (not a rail: its head is it)
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+          c.evidence.narrow_rows < c.evidence.rows / 2)
+        classifier_.locateEdge(in, c.trace.pixels, c.trace.points, side == 0, params_);
     }
 }
 
