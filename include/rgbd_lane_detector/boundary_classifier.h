@@ -94,10 +94,12 @@ class BoundaryClassifier {
    * @param[in] p thresholds (paint_contrast, paint_width_max).
    * @param[in] max_gap longest gap between painted stretches that is crossed (m).
    * @param[in] max_range farthest road distance followed (m).
+   * @param[in] reach the band is sought this far either side of the predicted column (m).
+   * @return rows found.
    */
-  void followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                  double max_range);
+  int followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                 std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
+                 double max_range, double reach = 0.15);
 
   /**
    * @brief Put a road edge where the road surface ends: on each row of the line, scanning from
@@ -177,6 +179,7 @@ class BoundaryClassifier {
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
+  std::vector<double> follow_f_;       ///< forward distance (m) of each row found in one direction
 };
 
 }  // namespace rgbd_lane_detector

@@ -91,6 +91,9 @@ class LaneDetector {
   /// @p R off the lines already traced, appended to candidates_[side].
   void findCandidates(int side, cv::Mat& R);
   void classifyCandidates(const Frame& frame);
+  /// A tracked painted side is also sought where its model predicts it, row by row: the
+  /// template's seeds can miss a line whose image angle changes fast (a lane change).
+  void followPredictedLines();
   /// Paint coverage (dashed / solid) and colour of every reported painted boundary.
   void measurePaint(const Frame& frame, Result& result);
   /// lane_model: the Kalman filter of the lane in the vehicle frame.

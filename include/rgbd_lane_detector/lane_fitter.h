@@ -67,6 +67,10 @@ class LaneFitter {
   const PlaneEstimate& previousPlane() const { return previous_plane_; }
   /// The lane model (for the seed search near the predicted boundaries).
   const LaneTracker& tracker() const { return tracker_; }
+  /// What side @p i's tracked boundary is (its kind vote).
+  BoundaryKind sideKind(int i) const {
+    return kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
+  }
 
   /**
    * @brief Road-plane geometry of a candidate: its points (depth where the depth lies on the

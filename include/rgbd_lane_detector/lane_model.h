@@ -14,7 +14,8 @@
  *
  * The filter's state is the ego lane: the lateral position of its centre line at the vehicle
  * y0, its heading psi (the centre line's slope dy/dx = tan psi at x = 0), curvature kappa,
- * curvature rate kappa' and width w. Its centre line is y(x) = y0 + tan(psi) x + kappa x^2 / 2 +
+ * curvature rate kappa', width w, and the speed vy at which y0 changes per update (the vehicle
+ * drifting or changing lanes; without odometry this carries the model between sightings). Its centre line is y(x) = y0 + tan(psi) x + kappa x^2 / 2 +
  * kappa' x^3 / 6, the ego boundaries are that line +-w/2. Measurements are each frame's
  * boundaries in the vehicle frame, associated with the model by their lateral offset: the ego
  * sides, the next lanes' lines and the road edges. A measurement one lane width from the ego
@@ -86,9 +87,10 @@ class LaneModelFilter {
               const BoundaryObservation* observations, int count, LaneModelEstimate& model);
 
  private:
-  using State = Eigen::Matrix<double, 5, 1>;  ///< y0, slope tan(psi), kappa, kappa', w
-  using Cov = Eigen::Matrix<double, 5, 5>;
-  using Row = Eigen::Matrix<double, 1, 5>;
+  /// y0, slope tan(psi), kappa, kappa', w, and the lane's sideways speed vy (m per update)
+  using State = Eigen::Matrix<double, 6, 1>;
+  using Cov = Eigen::Matrix<double, 6, 6>;
+  using Row = Eigen::Matrix<double, 1, 6>;
   static constexpr int kStations = 8;  ///< samples kept per observation
 
   /// One observation in the vehicle frame: up to kStations (x, y) samples, near to far.

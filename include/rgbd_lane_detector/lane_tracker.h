@@ -60,6 +60,9 @@ class LaneTracker {
   void reset();
   /// Forget side @p i (0 left, 1 right); the other keeps its model.
   void resetSide(int i);
+  /// The vehicle crossed side @p from's marker (a lane change): its model becomes the other
+  /// side's, and side @p from starts over.
+  void handOver(int from);
 
   /// True when side @p i (0 left, 1 right) has evidence no older than max_age frames.
   bool valid(int i) const { return sides_[i].valid; }
@@ -75,9 +78,10 @@ class LaneTracker {
   /**
    * @brief Update both sides with this frame's traced points.
    *
-   * The camera's own sideways motion moves both markers alike; it is estimated first (median
-   * disagreement of this frame's points with the established model) and applied to the model,
-   * then the points that pass the gate are added.
+   * The camera's own sideways motion moves both markers alike: the model is first moved by the
+   * sideways speed of the recent frames (a lane change, a drift: a side without evidence follows
+   * it), then by the median disagreement of this frame's points with the established model
+   * (which also updates that speed), then the points that pass the gate are added.
    * @param[in] frame plane frame of this frame's lane plane (invalid: no evidence, sides age).
    * @param[in] left,right traced 3D points of each side (non-finite entries skipped; empty: no
    *            evidence for that side).
@@ -122,6 +126,7 @@ class LaneTracker {
   std::array<Side, 2> sides_;
   std::array<std::vector<Eigen::Vector2d>, 2> measurements_;
   std::vector<double> residuals_;
+  double drift_ = 0.0;  ///< the lane's sideways motion per frame, predicted at each update (m)
 };
 
 }  // namespace rgbd_lane_detector

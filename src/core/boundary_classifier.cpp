@@ -28,9 +28,10 @@ constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at lea
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
 constexpr double kFollowReach = 0.15;        // m: a followed row's band is sought this close
-constexpr size_t kFollowFit = 12;            // rows of the line through the last ones found
+constexpr double kFollowFit = 4.0;            // m of road behind the last row found that make the line ahead
 constexpr double kEdgeReference[2] = {0.7, 1.0};  // m inside a road edge: the road's look
 constexpr double kEdgeBeyond = 0.2;          // m: an edge is sought up to this far beyond the line
+constexpr double kEdgeInside = 0.15;         // m: and up to this far inside it (a gutter is road)
 constexpr double kEdgeRun = 0.04;            // m of not-road in a row that make the edge
 
 float median(std::vector<float>& v) {
@@ -265,10 +266,10 @@ bool BoundaryClassifier::bandCentre(const ClassifierInput& in, int v, double u, 
   return true;
 }
 
-void BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                                    std::vector<Eigen::Vector3f>& points, const Params& p,
-                                    double max_gap, double max_range) {
-  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return;
+int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                   std::vector<Eigen::Vector3f>& points, const Params& p,
+                                   double max_gap, double max_range, double reach) {
+  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return 0;
   const Intrinsics& K = in.K;
   const Eigen::Vector3d& n = in.plane->normal;
   const double d = in.plane->distance;
@@ -303,6 +304,7 @@ void BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::P
   // comes from the trace, outside it from a line through the last rows found.
   auto follow = [&](int v0, int step, std::vector<cv::Point2f>& out) {
     out.clear();
+    follow_f_.clear();
     double last_f = -1.0;
     for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
       const bool inside = v <= v_near && v >= v_far;
@@ -310,9 +312,10 @@ void BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::P
       if (inside || out.size() < 2) {
         u = inside || out.empty() ? traceColumn(v) : out.back().x;
       } else {  // least-squares line u(v) through the last rows found
-        const size_t m = std::min<size_t>(out.size(), kFollowFit);
+        size_t first = out.size() - 2;  // the rows within kFollowFit of the last one found
+        while (first > 0 && std::fabs(follow_f_[first - 1] - follow_f_.back()) <= kFollowFit) --first;
         double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
-        for (size_t i = out.size() - m; i < out.size(); ++i) {
+        for (size_t i = first; i < out.size(); ++i) {
           s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
               suv += out[i].x * out[i].y;
         }
@@ -326,10 +329,13 @@ void BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::P
         continue;
       }
       if (!inside && last_f >= 0.0 && std::fabs(f - last_f) > max_gap) break;  // past the line
-      const int half = std::min(24, std::max(2, static_cast<int>(std::lround(kFollowReach * ppm))));
+      // the first rows beyond the trace, and every row of a predicted line, look wider
+      const double r = inside ? reach : kFollowReach;
+      const int half = std::min(48, std::max(2, static_cast<int>(std::lround(r * ppm))));
       double centre;
       if (bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre)) {
         out.emplace_back(static_cast<float>(centre), static_cast<float>(v));
+        follow_f_.push_back(f);
         last_f = f;
       } else if (!inside && last_f < 0.0 && out.empty()) {
         last_f = f;  // a gap from the trace's end on
@@ -338,13 +344,15 @@ void BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::P
   };
   follow(v_near, -1, followed_);           // from the trace's nearest row to the far end
   follow(v_near + 1, 1, followed_near_);   // below it, toward the car
-  if (followed_.size() + followed_near_.size() < 3) return;
+  const int found = static_cast<int>(followed_.size() + followed_near_.size());
+  if (found < 3) return found;
   pixels.clear();
   points.clear();
   for (auto it = followed_near_.rbegin(); it != followed_near_.rend(); ++it) pixels.push_back(*it);
   pixels.insert(pixels.end(), followed_.begin(), followed_.end());
   for (const auto& c : pixels)
     points.push_back(pointAt(in, static_cast<int>(std::lround(c.x)), static_cast<int>(std::lround(c.y))));
+  return found;
 }
 
 void BoundaryClassifier::locateEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
@@ -386,7 +394,8 @@ void BoundaryClassifier::locateEdge(const ClassifierInput& in, std::vector<cv::P
     const int run = std::max(2, static_cast<int>(std::lround(kEdgeRun * ppm)));
     int count = 0, first = 0;
     bool found = false;
-    for (int k = -ref0; k <= beyond; ++k) {
+    const int inside = static_cast<int>(std::lround(kEdgeInside * ppm));
+    for (int k = -inside; k <= beyond; ++k) {
       float grey, r, g;
       sample(in, u0 + out_dir * k, v, grey, r, g);
       const bool other = grey - road >= brighter || std::hypot(r - road_r, g - road_g) >= p.edge_chroma;

@@ -64,6 +64,7 @@ double angleFromHorizontalDeg(double angle, bool left) {
 // Keep a template angle inside the half-plane of its side, away from horizontal/vertical.
 constexpr int kMaxSeedRetries = 4;
 constexpr double kFollowGap = 10.0;  // m: dash gaps a followed line crosses (9 m on highways)
+constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
 
 double clampAngle(double angle, bool left) {
   const double lo = 10.0 * M_PI / 180.0, hi = 88.0 * M_PI / 180.0;
@@ -222,6 +223,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
       findCandidates(side, side == 0 ? acquisition_response_left_ : acquisition_response_right_);
   }
   classifyCandidates(frame);    // 8. paint, road edge or no boundary (improved mode)
+  followPredictedLines();
   timings_.classify = msSince(t);
   LaneFitInput fit;             // 9. the lane plane and boundaries
   fit.K = proc_K_;
@@ -450,6 +452,53 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
           c.evidence.narrow_rows < c.evidence.rows / 2)
         classifier_.locateEdge(in, c.trace.pixels, c.trace.points, side == 0, params_);
     }
+}
+
+void LaneDetector::followPredictedLines() {
+  const PlaneEstimate& previous = fitter_.previousPlane();
+  if (!params_.classify_boundaries || !params_.track_lanes || !road_.valid || !previous.valid)
+    return;
+  ClassifierInput& in = classifier_input_;  // set by classifyCandidates()
+  const PlaneFrame frame = PlaneFrame::fromPlane(road_);
+  const double sx = static_cast<double>(proc_size_.width) / input_size_.width;
+  const double sy = static_cast<double>(proc_size_.height) / input_size_.height;
+  for (int side = 0; side < 2; ++side) {
+    if (!fitter_.tracker().valid(side) || fitter_.sideKind(side) != BoundaryKind::kPaint) continue;
+    std::vector<BoundaryCandidate>& cands = candidates_[side];
+    int& count = candidate_count_[side];
+    if (static_cast<int>(cands.size()) <= count) cands.resize(count + 1);
+    BoundaryCandidate& c = cands[count];
+    MarkerTrace& m = c.trace;
+    m.pixels.clear();
+    m.points.clear();
+    m.scores.clear();
+    fitter_.tracker().sample(side, frame, 1.0, samples_);
+    for (const auto& q : samples_) {
+      if (!(q.z() > 0.1f)) continue;
+      const cv::Point2f px(static_cast<float>(proc_K_.fx * q.x() / q.z() + proc_K_.cx),
+                           static_cast<float>(proc_K_.fy * q.y() / q.z() + proc_K_.cy));
+      m.pixels.push_back(px);
+      m.points.push_back(pointAt(cv::Point2f(static_cast<float>((px.x + 0.5) * sx - 0.5),
+                                             static_cast<float>((px.y + 0.5) * sy - 0.5))));
+      m.scores.push_back(0.f);
+    }
+    if (m.pixels.size() < 2) continue;
+    if (classifier_.followLine(in, m.pixels, m.points, params_, kFollowGap, params_.max_depth,
+                               kPredictedReach) < params_.min_marker_points)
+      continue;
+    classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    m.found = false;
+    m.kind = BoundaryKind::kPaint;
+    m.peak_score = static_cast<float>(params_.trace_threshold);
+    m.seed = m.pixels.front();
+    m.seed_point = m.points.front();
+    m.angle_valid = false;
+    m.num_valid_points = static_cast<int>(m.points.size());
+    for (size_t i = 0; i < m.scores.size(); ++i) m.scores[i] = m.peak_score;
+    m.scores.resize(m.pixels.size(), m.peak_score);
+    ++count;
+  }
 }
 
 void LaneDetector::measurePaint(const Frame& frame, Result& result) {

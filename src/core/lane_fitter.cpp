@@ -20,6 +20,7 @@ constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence 
 constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
 constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
+constexpr double kCrossProbe = 3.0;      // m ahead where a marker's side of the vehicle is told
 constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
 
 // Robust straight line lateral = a + b forward through road points: least squares, then twice
@@ -319,6 +320,20 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       evidence_[i].push_back(frame.toCamera(q.x(), q.y()).cast<float>());
   }
   tracker_.update(frame, evidence_[0], evidence_[1], tp);
+  // A side whose marker passed under the vehicle (a lane change) is the other side's now.
+  for (int i = 0; i < 2; ++i) {
+    if (!tracker_.valid(i)) continue;
+    const double crossed = (i == 0 ? 1.0 : -1.0) * tracker_.lateral(i, kCrossProbe);
+    if (crossed <= 0.0) continue;
+    tracker_.handOver(i);
+    kind_score_[1 - i] = kind_score_[i];
+    evidence_margin_[1 - i] = evidence_margin_[i];
+    kind_score_[i] = evidence_margin_[i] = 0.f;
+    disagree_ = {0, 0};
+    chosen[1 - i] = chosen[i] >= 0 ? -1 : chosen[1 - i];  // this frame's choice was for the old side
+    chosen[i] = -1;
+    break;
+  }
 
   for (int i = 0; i < 2; ++i) {
     MarkerTrace& m = *sides[i];

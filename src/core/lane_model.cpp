@@ -9,10 +9,11 @@ namespace {
 constexpr double kNominalWidth = 3.5;   // m: width of a lane whose other side was never seen
 constexpr double kMinForward = 0.5;     // m: nearer points are not used
 constexpr double kQuadraticRange = 12.0;  // m of x-range before a side's curvature is fitted
-// Process noise per update (no motion given: the lane moves relative to the vehicle).
-constexpr double kQ[5] = {0.04 * 0.04, 0.01 * 0.01, 2e-4 * 2e-4, 1e-5 * 1e-5, 0.02 * 0.02};
+// Process noise per update (the lane moves relative to the vehicle).
+constexpr double kQ[6] = {0.02 * 0.02, 0.01 * 0.01, 2e-4 * 2e-4, 1e-5 * 1e-5, 0.02 * 0.02,
+                          0.03 * 0.03};
 // Initial standard deviations of a fresh model.
-constexpr double kP0[5] = {0.2, 0.03, 2e-3, 1e-4, 0.3};
+constexpr double kP0[6] = {0.2, 0.03, 2e-3, 1e-4, 0.3, 0.1};
 constexpr double kStationGate = 3.0;    // sigmas: a station further from the model is skipped
 constexpr double kNextMin = 1.5;        // m: an outer line at least this far beyond its ego side
 constexpr double kNextMax = 6.0;        // m: ... and at most this far
@@ -111,7 +112,7 @@ void LaneModelFilter::reset() {
   x_.setZero();
   x_[4] = kNominalWidth;
   P_.setZero();
-  for (int i = 0; i < 5; ++i) P_(i, i) = kP0[i] * kP0[i];
+  for (int i = 0; i < 6; ++i) P_(i, i) = kP0[i] * kP0[i];
   initialised_ = false;
   lost_ = 0;
   lane_changes_ = 0;
@@ -124,7 +125,7 @@ void LaneModelFilter::predict(const Eigen::Isometry3d& motion) {
   const double dx = motion.translation().x(), dy = motion.translation().y();
   const double dpsi = std::atan2(motion.linear()(1, 0), motion.linear()(0, 0));
   const double y0 = x_[0], t = x_[1], k = x_[2], kr = x_[3];
-  Eigen::Matrix<double, 5, 5> F = Eigen::Matrix<double, 5, 5>::Identity();
+  Cov F = Cov::Identity();
   F(0, 1) = dx;
   F(0, 2) = 0.5 * dx * dx;
   F(0, 3) = dx * dx * dx / 6.0;
@@ -152,7 +153,7 @@ double LaneModelFilter::predicted(int p, double x) const {
 
 LaneModelFilter::Row LaneModelFilter::measurementRow(int p, double x) const {
   Row H;
-  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5;
+  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5, 0.0;
   return H;
 }
 
@@ -212,7 +213,7 @@ void LaneModelFilter::initialise(const Track* left, const Track* right) {
   if (have[0] && have[1]) {
     const double w = a[0] - a[1];
     if (w >= settings_.width_min && w <= settings_.width_max) {
-      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w;
+      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w, 0.0;
       P_(4, 4) = 0.1 * 0.1;
       initialised_ = true;
       return;
@@ -224,7 +225,7 @@ void LaneModelFilter::initialise(const Track* left, const Track* right) {
   for (int i = 0; i < 2; ++i) {
     if (!have[i]) continue;
     const double half = 0.5 * kNominalWidth;
-    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth;
+    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth, 0.0;
     P_(4, 4) = 1.0;
     initialised_ = true;
     return;
@@ -283,7 +284,7 @@ void LaneModelFilter::updateEgo(const Track& t, int p) {
     const double S = (H * P_ * H.transpose())(0, 0) + measurementVariance(x);
     const double innovation = t.xy[i].y() - (H * x_)(0, 0);
     if (std::fabs(innovation) > kStationGate * std::sqrt(S)) continue;
-    const Eigen::Matrix<double, 5, 1> K = P_ * H.transpose() / S;
+    const State K = P_ * H.transpose() / S;
     x_ += K * innovation;
     P_ -= K * S * K.transpose();
   }
@@ -375,7 +376,12 @@ void LaneModelFilter::update(const Eigen::Isometry3d& vehicle_from_camera,
     }
     if (left || right) initialise(left, right);
   } else {
-    for (int i = 0; i < 5; ++i) P_(i, i) += kQ[i];
+    // the lane keeps moving sideways at vy
+    Cov F = Cov::Identity();
+    F(0, 5) = 1.0;
+    x_[0] += x_[5];
+    P_ = F * P_ * F.transpose();
+    for (int i = 0; i < 6; ++i) P_(i, i) += kQ[i];
   }
   if (initialised_) {
     // the vehicle left the ego lane (the model says so): relabel before associating

@@ -21,9 +21,12 @@ constexpr int kStaleAge = 3;
 // extent grows with the distance).
 constexpr double kNearRange = 10.0;
 // How far (m) a side is reported beyond its own evidence.
-constexpr double kMaxExtrapolation = 15.0;
+constexpr double kMaxExtrapolation = 4.0;
 // Upper bound of the reported points per side.
 constexpr int kMaxSamples = 40;
+// Sideways speed of the lane: gain of each frame's measured shift, decay without one.
+constexpr double kDriftGain = 0.5;
+constexpr double kDriftDecay = 0.9;
 
 }  // namespace
 
@@ -53,12 +56,29 @@ double LaneTracker::Side::farthest() const {
 }
 
 void LaneTracker::reset() {
+  drift_ = 0.0;
   for (int i = 0; i < 2; ++i) {
     A_[i].setZero();
     b_[i].setZero();
   }
   coef_.setZero();
   for (auto& s : sides_) s = Side();
+}
+
+void LaneTracker::handOver(int from) {
+  // The lane's sums live in (a_left, a_right, b, c): side `from`'s evidence moves to the other
+  // side's intercept, its shape terms stay.
+  const int to = 1 - from;
+  Eigen::PermutationMatrix<4> P;
+  P.setIdentity();
+  P.applyTranspositionOnTheRight(0, 1);
+  A_[to] = P * A_[from] * P.transpose();
+  b_[to] = P * b_[from];
+  sides_[to] = sides_[from];
+  A_[from].setZero();
+  b_[from].setZero();
+  sides_[from] = Side();
+  solve();
 }
 
 void LaneTracker::resetSide(int i) {
@@ -108,6 +128,10 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
   }
   auto enough = [&](int i) { return static_cast<int>(measurements_[i].size()) >= params.min_points; };
 
+  // the lane keeps moving sideways as it did (a lane change, a drift): predict that first, so
+  // that a side without evidence follows it and the gate below looks at the right place
+  if (valid(0) || valid(1)) shift(drift_);
+
   // Gate per side; a stale side whose new evidence disagrees starts its model over.
   bool gate[2] = {false, false};
   for (int i = 0; i < 2; ++i) {
@@ -140,11 +164,22 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
     side_shift[i] = residuals_[residuals_.size() / 2];
     have_shift[i] = std::fabs(side_shift[i]) <= params.gate;
   }
+  double measured = 0.0;
+  bool moved = false;
   if (have_shift[0] && have_shift[1]) {
-    if (std::fabs(side_shift[0] - side_shift[1]) <= 0.5 * params.gate)
-      shift(0.5 * (side_shift[0] + side_shift[1]));
+    if (std::fabs(side_shift[0] - side_shift[1]) <= 0.5 * params.gate) {
+      measured = 0.5 * (side_shift[0] + side_shift[1]);
+      moved = true;
+    }
   } else if (have_shift[0] || have_shift[1]) {
-    shift(have_shift[0] ? side_shift[0] : side_shift[1]);
+    measured = have_shift[0] ? side_shift[0] : side_shift[1];
+    moved = true;
+  }
+  if (moved) {
+    shift(measured);
+    drift_ += kDriftGain * measured;  // the sideways speed, per frame (alpha-beta filter)
+  } else {
+    drift_ *= kDriftDecay;
   }
 
   for (int i = 0; i < 2; ++i) {

@@ -474,11 +474,24 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
 
   // lane_visualization
   const auto markers = out.markers.withStamp(stamp);
-  ASSERT_EQ(markers->markers.size(), 3u);
-  for (const auto& m : markers->markers) {
+  // the plane and both markings in the target frame, then one line per lane-model position
+  // (rgbd_lane_detector::kNumBoundaryPositions) in the lane model's frame
+  ASSERT_EQ(markers->markers.size(), 3u + rgbd_lane_detector::kNumBoundaryPositions);
+  for (size_t i = 0; i < 3; ++i) {
+    const auto& m = markers->markers[i];
     EXPECT_EQ(m.header.frame_id, frame);
     EXPECT_EQ(m.action, visualization_msgs::Marker::ADD) << m.ns << " " << m.id;
   }
+  int model_lines = 0;
+  for (size_t i = 3; i < markers->markers.size(); ++i) {
+    const auto& m = markers->markers[i];
+    EXPECT_EQ(m.ns, conversions::kModelNs);
+    model_lines += m.action == visualization_msgs::Marker::ADD;
+  }
+  std::string mode;
+  ros::param::param<std::string>(g->detector + "/mode", mode, "paper");
+  if (mode == "improved") EXPECT_GE(model_lines, 2) << "the ego lane's two boundaries";
+  else EXPECT_EQ(model_lines, 0) << "paper mode tracks no lane model";
   EXPECT_EQ(markers->markers[0].type, visualization_msgs::Marker::TRIANGLE_LIST);
   EXPECT_EQ(markers->markers[1].type, visualization_msgs::Marker::LINE_STRIP);
 
