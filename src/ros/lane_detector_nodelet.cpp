@@ -19,6 +19,7 @@
 #include <rgbd_lane_detector/LaneMarkings.h>
 #include <rgbd_lane_detector/LanePlane.h>
 
+#include "frame_accounting.h"
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector/ros/conversions.h"
 
@@ -30,9 +31,6 @@ using namespace boost::placeholders;
 namespace conv = conversions;
 
 constexpr double kThrottle = 5.0;  // s between repeated per-frame warnings / errors
-// processFrame's outcome for a frame synchronised after the last output subscriber left
-constexpr char kSkippedFrame[] = "skipped: no output subscriber";
-constexpr char kOtherReasons[] = "other reasons";  // drop-reason table full
 
 }  // namespace
 
@@ -44,6 +42,7 @@ void LaneDetectorNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   it_ = std::make_shared<image_transport::ImageTransport>(nh);
+  accounting_.reset(new FrameAccounting);
 
   // Synchronised inputs; the subscriptions themselves are made in connectCb. Every colour
   // frame is counted before the synchroniser sees it (callbacks run in registration order).
@@ -176,8 +175,7 @@ void LaneDetectorNodelet::connectCb() {
     sub_colour_.subscribe(*it_, "rgb/image_rect_color", queue_size_, colour_hints);
     sub_depth_.subscribe(*it_, "depth_registered/image_rect", queue_size_, depth_hints);
     sub_info_.subscribe(nh, "rgb/camera_info", queue_size_);
-    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    stats_.seq_restart = true;  // seq gaps across an unsubscribed period are not losses
+    accounting_->restartSequence();  // seq gaps across an unsubscribed period are not losses
   }
 }
 
@@ -268,26 +266,31 @@ void LaneDetectorNodelet::frameCallback(const sensor_msgs::ImageConstPtr& colour
                                         const sensor_msgs::ImageConstPtr& depth,
                                         const sensor_msgs::CameraInfoConstPtr& info) {
   const Clock::time_point start = Clock::now();
-  const char* outcome = processFrame(*colour, *depth, *info);
-  accountFrame(*colour, outcome,
-               std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  const char* detail = nullptr;
+  const FrameOutcome outcome = processFrame(*colour, *depth, *info, detail);
+  const double callback_ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  accounting_->synchronised(colour.get(), static_cast<int64_t>(colour->header.stamp.toNSec()),
+                            outcome, detail, callback_ms, result_.timings.total);
 }
 
-const char* LaneDetectorNodelet::processFrame(const Image& colour, const Image& depth,
-                                              const CameraInfo& info) {
+FrameOutcome LaneDetectorNodelet::processFrame(const Image& colour, const Image& depth,
+                                               const CameraInfo& info, const char*& detail) {
   const Wanted wanted = wantedOutputs();
-  if (!wanted.any()) return kSkippedFrame;  // the last subscriber left while this frame was queued
+  if (!wanted.any()) return FrameOutcome::kSkipped;  // the last subscriber left meanwhile
   const std_msgs::Header& image_header = colour.header;
 
-  if (!updateDetectorParams(image_header.frame_id)) return "no transform from up_frame";
+  if (!updateDetectorParams(image_header.frame_id)) return FrameOutcome::kNoUpTransform;
   Frame frame;
   if (const char* problem = conv::frameFromMsgs(colour, depth, info, frame, depth_swap_))
-    return dropFrame(problem, colour, depth);
+    return dropFrame(FrameOutcome::kBadMessage, problem, detail, colour, depth);
   const Status valid = detector_.validate(frame);
-  if (valid != Status::kOk) return dropFrame(statusMessage(valid), colour, depth);
+  if (valid != Status::kOk)
+    return dropFrame(FrameOutcome::kInvalidFrame, statusMessage(valid), detail, colour, depth);
   std_msgs::Header out_header = image_header;
   Eigen::Isometry3d T;
-  if (!outputTransform(image_header, T, out_header.frame_id)) return "no transform to target_frame";
+  if (!outputTransform(image_header, T, out_header.frame_id))
+    return FrameOutcome::kNoTargetTransform;
 
   if (!last_stamp_.isZero() && image_header.stamp < last_stamp_) {
     NODELET_INFO_THROTTLE(
@@ -302,12 +305,13 @@ const char* LaneDetectorNodelet::processFrame(const Image& colour, const Image& 
     status = detector_.detect(frame, result_);
   } catch (const std::exception& e) {  // never expected: the frame was validated
     NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: detector failed: %s", e.what());
-    return "detector exception";
+    return FrameOutcome::kDetectorException;
   }
-  if (status != Status::kOk) return dropFrame(statusMessage(status), colour, depth);
+  if (status != Status::kOk)
+    return dropFrame(FrameOutcome::kInvalidFrame, statusMessage(status), detail, colour, depth);
   publishOutputs(wanted, frame, image_header, out_header, T);
   rate_diagnostic_->tick(image_header.stamp);
-  return nullptr;
+  return FrameOutcome::kProcessed;
 }
 
 void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& frame,
@@ -363,94 +367,19 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
   }
 }
 
-const char* LaneDetectorNodelet::dropFrame(const char* problem, const Image& colour,
-                                           const Image& depth) {
+FrameOutcome LaneDetectorNodelet::dropFrame(FrameOutcome outcome, const char* problem,
+                                            const char*& detail, const Image& colour,
+                                            const Image& depth) {
   NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: %s [colour %s %ux%u, depth %s %ux%u]", problem,
                          colour.encoding.c_str(), colour.width, colour.height,
                          depth.encoding.c_str(), depth.width, depth.height);
-  return problem;
+  detail = problem;
+  return outcome;
 }
 
 void LaneDetectorNodelet::colourReceived(const sensor_msgs::ImageConstPtr& colour) {
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  Stats& s = stats_;
-  ++s.received;
-  // Frames lost before the nodelet (transport, full subscriber queue): gaps in header.seq,
-  // which publishers number per message sent. A new run starts at each (re)subscription; a seq
-  // that does not increase (restarted publisher, publishers leaving seq at 0) counts nothing.
-  const uint32_t seq = colour->header.seq;
-  if (!s.seq_restart && seq > s.last_seq) s.lost_before += seq - s.last_seq - 1;
-  s.seq_restart = false;
-  s.last_seq = seq;
-  // Pending until the synchroniser emits it or a later frame. The synchroniser holds at most
-  // queue_size colour frames, so a frame evicted from the full ring was dropped there.
-  if (s.pending_count == kPendingCapacity) {
-    s.pending_head = (s.pending_head + 1) % kPendingCapacity;
-    --s.pending_count;
-    ++s.not_synchronised;
-    ++s.ring_overflow;
-  }
-  PendingFrame& p = s.pending[(s.pending_head + s.pending_count) % kPendingCapacity];
-  p.msg = colour.get();
-  p.stamp = colour->header.stamp;
-  ++s.pending_count;
-}
-
-void LaneDetectorNodelet::accountFrame(const Image& colour, const char* outcome,
-                                       double callback_ms) {
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  Stats& s = stats_;
-  ++s.synchronised;
-  // The synchronisers emit each topic's messages in arrival order and discard the ones they
-  // pass over: every pending frame received before this one was not synchronised.
-  size_t i = 0;
-  const auto at = [&s](size_t k) -> PendingFrame& {
-    return s.pending[(s.pending_head + k) % kPendingCapacity];
-  };
-  while (i < s.pending_count && !(at(i).msg == &colour && at(i).stamp == colour.header.stamp)) ++i;
-  if (i == s.pending_count) {  // same stamp, other message object (never expected)
-    i = 0;
-    while (i < s.pending_count && at(i).stamp != colour.header.stamp) ++i;
-  }
-  if (i < s.pending_count) {
-    s.not_synchronised += i;
-    s.pending_head = (s.pending_head + i + 1) % kPendingCapacity;
-    s.pending_count -= i + 1;
-  } else if (s.not_synchronised > 0) {  // already counted as passed over (ring overflow, ExactTime
-    --s.not_synchronised;               // emitting an older stamp after a newer one)
-    ++s.late_synchronised;
-  } else {
-    ++s.untracked;
-  }
-
-  if (outcome == nullptr) {
-    ++s.processed;
-    ++s.window_count;
-    s.window_callback_ms += callback_ms;
-    s.window_detect_ms += result_.timings.total;
-    s.window_max_ms = std::max(s.window_max_ms, callback_ms);
-    return;
-  }
-  if (outcome == kSkippedFrame) {
-    ++s.skipped;
-    return;
-  }
-  ++s.dropped;
-  ++s.window_dropped;
-  s.last_drop = outcome;
-  DropCount* slot = nullptr;
-  for (DropCount& d : s.drop_counts) {
-    if (d.reason == nullptr || d.reason == outcome || std::strcmp(d.reason, outcome) == 0) {
-      slot = &d;
-      break;
-    }
-  }
-  if (slot == nullptr || (slot == &s.drop_counts[kMaxDropReasons - 1] && slot->reason != outcome)) {
-    slot = &s.drop_counts[kMaxDropReasons - 1];  // table full: the last slot takes the rest
-    outcome = kOtherReasons;
-  }
-  slot->reason = outcome;
-  ++slot->count;
+  accounting_->received(colour.get(), static_cast<int64_t>(colour->header.stamp.toNSec()),
+                        colour->header.seq);
 }
 
 void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -459,46 +388,40 @@ void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticSt
     std::lock_guard<std::mutex> lock(connect_mutex_);
     subscribed = static_cast<bool>(sub_colour_.getSubscriber());
   }
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  Stats& s = stats_;
-  const double n = static_cast<double>(std::max<uint64_t>(s.window_count, 1));
-  if (s.window_dropped > 0)
+  const FrameAccounting::Report r = accounting_->report();
+  const double n = static_cast<double>(std::max<uint64_t>(r.window_processed, 1));
+  if (r.window_dropped > 0)
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%lu frame(s) dropped: %s",
-                  static_cast<unsigned long>(s.window_dropped), s.last_drop);
+                  static_cast<unsigned long>(r.window_dropped), r.last_drop);
   else if (!subscribed)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Idle: no subscribers");
-  else if (s.window_count == 0)
+  else if (r.window_processed == 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Waiting for frames");
   else
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::OK, "%.1f ms per frame",
-                  s.window_callback_ms / n);
+                  r.window_callback_ms / n);
   // Cumulative accounting of every colour frame received (docs/NODELET.md):
   // received == processed + dropped + skipped + not synchronised + waiting.
-  const uint64_t waiting = s.pending_count;
   stat.add("Inputs subscribed", subscribed);
-  stat.add("Frames received", s.received);
-  stat.add("Frames synchronised", s.synchronised);
-  stat.add("Frames processed", s.processed);
-  stat.add("Frames dropped", s.dropped);
-  stat.add("Frames skipped (no subscriber)", s.skipped);
-  stat.add("Frames not synchronised", s.not_synchronised);
-  stat.add("Frames waiting", waiting);
-  stat.add("Frames unaccounted", static_cast<int64_t>(s.received) -
-                                     static_cast<int64_t>(s.processed + s.dropped + s.skipped +
-                                                          s.not_synchronised + waiting));
-  stat.add("Frames lost before the nodelet", s.lost_before);
-  stat.add("Pending ring overflows", s.ring_overflow);
-  stat.add("Frames synchronised late", s.late_synchronised);
-  if (s.untracked > 0) stat.add("Frames synchronised untracked", s.untracked);
-  for (const DropCount& d : s.drop_counts)
-    if (d.reason != nullptr) stat.add(std::string("Dropped: ") + d.reason, d.count);
-  stat.add("Last drop reason", s.last_drop);
-  stat.addf("Mean processing time (ms)", "%.3f", s.window_callback_ms / n);
-  stat.addf("Mean detector time (ms)", "%.3f", s.window_detect_ms / n);
-  stat.addf("Mean ROS overhead (ms)", "%.3f", (s.window_callback_ms - s.window_detect_ms) / n);
-  stat.addf("Max processing time (ms)", "%.3f", s.window_max_ms);
-  s.window_count = s.window_dropped = 0;
-  s.window_callback_ms = s.window_detect_ms = s.window_max_ms = 0.0;
+  stat.add("Frames received", r.received);
+  stat.add("Frames synchronised", r.synchronised);
+  stat.add("Frames processed", r.processed);
+  stat.add("Frames dropped", r.dropped);
+  stat.add("Frames skipped (no subscriber)", r.skipped);
+  stat.add("Frames not synchronised", r.not_synchronised);
+  stat.add("Frames waiting", r.waiting);
+  stat.add("Frames unaccounted", r.unaccounted());
+  stat.add("Frames lost before the nodelet", r.lost_before);
+  stat.add("Pending ring overflows", r.ring_overflow);
+  stat.add("Frames synchronised late", r.late_synchronised);
+  if (r.untracked > 0) stat.add("Frames synchronised untracked", r.untracked);
+  for (size_t k = 0; k < r.drop_reasons; ++k)
+    stat.add(std::string("Dropped: ") + r.drops[k].reason, r.drops[k].count);
+  stat.add("Last drop reason", std::string(r.last_drop));
+  stat.addf("Mean processing time (ms)", "%.3f", r.window_callback_ms / n);
+  stat.addf("Mean detector time (ms)", "%.3f", r.window_detect_ms / n);
+  stat.addf("Mean ROS overhead (ms)", "%.3f", (r.window_callback_ms - r.window_detect_ms) / n);
+  stat.addf("Max processing time (ms)", "%.3f", r.window_max_ms);
 }
 
 }  // namespace rgbd_lane_detector

@@ -37,6 +37,9 @@
 
 namespace rgbd_lane_detector {
 
+class FrameAccounting;  // src/ros/frame_accounting.h (private to the nodelet)
+enum class FrameOutcome : uint8_t;
+
 class LaneDetectorNodelet : public nodelet::Nodelet {
  public:
   LaneDetectorNodelet() = default;
@@ -59,46 +62,6 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     }
   };
 
-  /// Frames dropped for one reason (static text, compared by address then by content).
-  struct DropCount {
-    const char* reason = nullptr;
-    uint64_t count = 0;
-  };
-  /// A colour frame received and not yet emitted by the synchroniser (identity and stamp).
-  struct PendingFrame {
-    const void* msg = nullptr;
-    ros::Time stamp;
-  };
-  static constexpr size_t kMaxDropReasons = 24;  ///< the last slot counts every further reason
-  static constexpr size_t kPendingCapacity = 256;
-
-  /// Per-frame statistics for the diagnostics (guarded by stats_mutex_). Every colour frame
-  /// received is, at any time, exactly one of: processed, dropped (by reason), skipped, not
-  /// synchronised, or waiting (in `pending`); see docs/NODELET.md.
-  struct Stats {
-    uint64_t received = 0;           ///< colour frames received by the nodelet (total)
-    uint64_t synchronised = 0;       ///< sets emitted by the synchroniser (total)
-    uint64_t processed = 0;          ///< frames published (total)
-    uint64_t dropped = 0;            ///< frames dropped (total, the sum of drop_counts)
-    uint64_t skipped = 0;            ///< synchronised after the last output subscriber left
-    uint64_t not_synchronised = 0;   ///< received, then overtaken by a later synchronised frame
-    uint64_t ring_overflow = 0;      ///< part of not_synchronised: evicted from a full `pending`
-    uint64_t late_synchronised = 0;  ///< emitted after being counted as not synchronised
-    uint64_t untracked = 0;          ///< emitted but never received (never expected)
-    uint64_t lost_before = 0;        ///< gaps in the colour header.seq while subscribed
-    bool seq_restart = true;         ///< next colour seq starts a new run (subscribe, seq back)
-    uint32_t last_seq = 0;
-    DropCount drop_counts[kMaxDropReasons];
-    PendingFrame pending[kPendingCapacity];  ///< ring in arrival order
-    size_t pending_head = 0, pending_count = 0;
-    uint64_t window_count = 0;      ///< processed since the last diagnostics update
-    uint64_t window_dropped = 0;    ///< dropped since the last diagnostics update
-    double window_callback_ms = 0;  ///< sum of whole-callback times in the window
-    double window_detect_ms = 0;    ///< sum of core detect() times in the window
-    double window_max_ms = 0;       ///< slowest callback in the window
-    const char* last_drop = "";     ///< static description of the last drop
-  };
-
   void onInit() override;
   void readInitialConfig(ros::NodeHandle& pnh);
   /// Subscribe to the inputs when any output has a subscriber, unsubscribe when none has.
@@ -107,12 +70,11 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   void frameCallback(const sensor_msgs::ImageConstPtr& colour,
                      const sensor_msgs::ImageConstPtr& depth,
                      const sensor_msgs::CameraInfoConstPtr& info);
-  /// The frame's fate: nullptr processed, kSkippedFrame skipped, else the drop reason.
-  const char* processFrame(const Image& colour, const Image& depth, const CameraInfo& info);
-  /// Every colour frame the nodelet receives (before the synchroniser): counts, seq gaps, ring.
+  /// The frame's fate; @p detail names a drop's problem (static text) or stays null.
+  FrameOutcome processFrame(const Image& colour, const Image& depth, const CameraInfo& info,
+                            const char*& detail);
+  /// Every colour frame the nodelet receives (before the synchroniser): counted in accounting_.
   void colourReceived(const sensor_msgs::ImageConstPtr& colour);
-  /// Account one synchronised frame with its fate (processFrame's result) and callback time.
-  void accountFrame(const Image& colour, const char* outcome, double callback_ms);
   Wanted wantedOutputs() const;
   /// Copy the latest reconfigured Params and the up axis into the detector when they changed.
   /// @return false (frame to skip) when the up axis is requested but unavailable.
@@ -122,8 +84,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   void publishOutputs(const Wanted& wanted, const Frame& frame,
                       const std_msgs::Header& image_header, const std_msgs::Header& out_header,
                       const Eigen::Isometry3d& T);
-  /// Bad input: a throttled error naming the problem; returns @p problem (static text).
-  const char* dropFrame(const char* problem, const Image& colour, const Image& depth);
+  /// Bad input: a throttled error naming the problem; returns @p outcome with @p detail = problem.
+  FrameOutcome dropFrame(FrameOutcome outcome, const char* problem, const char*& detail,
+                         const Image& colour, const Image& depth);
   void processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   // --- inputs (declared before the synchronisers, which hold references to them) ---------------
@@ -167,8 +130,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   double min_rate_ = 1.0, max_rate_ = 100.0;
   std::unique_ptr<diagnostic_updater::TopicDiagnostic> rate_diagnostic_;
   ros::Timer diagnostics_timer_;
-  std::mutex stats_mutex_;
-  Stats stats_;
+  std::unique_ptr<FrameAccounting> accounting_;  ///< every colour frame's fate (thread-safe)
 };
 
 }  // namespace rgbd_lane_detector
