@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
@@ -22,6 +23,7 @@
 #include "frame_accounting.h"
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector/ros/conversions.h"
+#include "stamp_jump_detector.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -32,10 +34,23 @@ namespace conv = conversions;
 
 constexpr double kThrottle = 5.0;  // s between repeated per-frame warnings / errors
 
+/// The package of image_transport_plugins that provides a transport's plugins (null: unknown).
+const char* transportPackage(const std::string& transport) {
+  if (transport == "compressed") return "compressed_image_transport";
+  if (transport == "compressedDepth") return "compressed_depth_image_transport";
+  if (transport == "theora") return "theora_image_transport";
+  return nullptr;
+}
+
 }  // namespace
 
 LaneDetectorNodelet::~LaneDetectorNodelet() {
   diagnostics_timer_.stop();
+  // no input callback after this point (they use the members destroyed next)
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  sub_colour_.unsubscribe();
+  sub_depth_.unsubscribe();
+  sub_info_.unsubscribe();
 }
 
 void LaneDetectorNodelet::onInit() {
@@ -44,27 +59,28 @@ void LaneDetectorNodelet::onInit() {
   it_ = std::make_shared<image_transport::ImageTransport>(nh);
   accounting_.reset(new FrameAccounting);
 
-  // Synchronised inputs; the subscriptions themselves are made in connectCb. Every colour
-  // frame is counted before the synchroniser sees it (callbacks run in registration order).
-  sub_colour_.registerCallback(boost::function<void(const sensor_msgs::ImageConstPtr&)>(
+  // A configured image transport whose plugin is missing fails here, naming it (otherwise the
+  // first output subscriber would make the nodelet subscribe and fail silently, with no frames).
+  checkTransports(pnh);
+
+  // Inputs: subscriber -> bookkeeping -> pass-through -> synchroniser. The bookkeeping counts
+  // every colour frame, checks every stamp for a jump back in time and drops the late messages
+  // from before a jump; the pass-throughs let a jump replace the synchroniser from inside a
+  // subscriber's callback. The subscriptions themselves are made in connectCb.
+  sub_colour_.registerCallback(boost::function<void(const ImageEvent&)>(
       boost::bind(&LaneDetectorNodelet::colourReceived, this, _1)));
+  sub_depth_.registerCallback(boost::function<void(const ImageEvent&)>([this](const ImageEvent& e) {
+    if (acceptInput(kDepthInput, e.getMessage()->header.stamp)) pass_depth_.add(e);
+  }));
+  sub_info_.registerCallback(
+      boost::function<void(const CameraInfoEvent&)>([this](const CameraInfoEvent& e) {
+        if (acceptInput(kInfoInput, e.getMessage()->header.stamp)) pass_info_.add(e);
+      }));
+  jumps_.reset(new StampJumpDetector(kInputs));
   pnh.param("queue_size", queue_size_, 5);
   queue_size_ = std::max(1, queue_size_);
-  bool approximate_sync = true;
-  pnh.param("approximate_sync", approximate_sync, true);
-  if (approximate_sync) {
-    approximate_sync_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
-        ApproximatePolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
-    approximate_sync_->setReset(true);  // sim time jumping back (rosbag loop) clears the queues
-    approximate_sync_->registerCallback(
-        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
-  } else {
-    exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(
-        ExactPolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
-    exact_sync_->setReset(true);
-    exact_sync_->registerCallback(
-        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
-  }
+  pnh.param("approximate_sync", approximate_sync_, true);
+  makeSynchroniser();
 
   // tf: only when an output frame or an up frame is requested.
   pnh.param<std::string>("target_frame", target_frame_, "");
@@ -121,9 +137,83 @@ void LaneDetectorNodelet::onInit() {
   pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
   pub_debug_ = it_->advertise("debug_image", 1, image_connect_cb, image_connect_cb);
   NODELET_INFO("Lane detector ready (%s sync, output frame: %s, up axis: %s)",
-               approximate_sync ? "approximate" : "exact",
+               approximate_sync_ ? "approximate" : "exact",
                target_frame_.empty() ? "colour optical frame" : target_frame_.c_str(),
                up_frame_.empty() ? "camera -y" : ("+z of " + up_frame_).c_str());
+}
+
+void LaneDetectorNodelet::checkTransports(ros::NodeHandle& pnh) {
+  std::string missing;
+  std::vector<std::string> loadable;  // "<package>/<transport>", looked up once if needed
+  for (const char* param : {"image_transport", "depth_image_transport"}) {
+    std::string transport;
+    pnh.param<std::string>(param, transport, "raw");
+    if (transport == "raw") continue;  // built into image_transport
+    if (loadable.empty()) loadable = it_->getLoadableTransports();
+    const bool found = std::any_of(loadable.begin(), loadable.end(), [&](const std::string& l) {
+      return l.size() > transport.size() &&
+             l.compare(l.size() - transport.size() - 1, std::string::npos, "/" + transport) == 0;
+    });
+    if (found) continue;
+    std::string names;
+    for (const std::string& l : loadable) names += (names.empty() ? "" : ", ") + l;
+    const char* package = transportPackage(transport);
+    missing += std::string(missing.empty() ? "" : " ") + "Image transport '" + transport +
+               "' (parameter ~" + param + ") is not installed: image_transport has no '" +
+               transport + "' subscriber plugin here (loadable: " + names + ").";
+    if (package)
+      missing += std::string(" It is provided by the package ") + package +
+                 " (ROS Noetic: ros-noetic-image-transport-plugins).";
+    missing += std::string(" Install it, or set ~") + param + " to raw.";
+  }
+  if (missing.empty()) return;
+  NODELET_FATAL("%s", missing.c_str());
+  throw std::runtime_error(missing);  // the manager (or lane_detector_node) refuses to load us
+}
+
+void LaneDetectorNodelet::makeSynchroniser() {
+  // the old one (if any) is destroyed first: it disconnects from the pass-throughs
+  if (approximate_sync_) {
+    approximate_sync_filter_.reset();
+    approximate_sync_filter_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
+        ApproximatePolicy(queue_size_), pass_colour_, pass_depth_, pass_info_));
+    approximate_sync_filter_->registerCallback(
+        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+  } else {
+    exact_sync_filter_.reset();
+    exact_sync_filter_.reset(new message_filters::Synchronizer<ExactPolicy>(
+        ExactPolicy(queue_size_), pass_colour_, pass_depth_, pass_info_));
+    exact_sync_filter_->registerCallback(
+        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+  }
+}
+
+bool LaneDetectorNodelet::acceptInput(size_t input, const ros::Time& stamp) {
+  const StampJumpDetector::Verdict verdict =
+      jumps_->update(input, static_cast<int64_t>(stamp.toNSec()));
+  if (verdict == StampJumpDetector::Verdict::kStale) return false;  // from before the last jump
+  if (verdict == StampJumpDetector::Verdict::kCurrent) return true;
+  // Time went back (rosbag loop, a camera clock restarting): everything that depends on time
+  // starts again, said in one line. The images synchronised from now on are this epoch's only.
+  detector_.reset();  // lane tracker, adapted templates, previous plane
+  makeSynchroniser();
+  if (tf_buffer_) tf_buffer_->clear();  // transforms of the old epoch (static ones are kept)
+  const ros::WallTime now = ros::WallTime::now();  // wall time: sim time itself went back
+  if (now - last_jump_log_ < ros::WallDuration(1.0)) {
+    ++jumps_not_logged_;  // a stream going back and forth: at most one line a second
+    return true;
+  }
+  NODELET_WARN(
+      "Input stamps went back %.3f s (rosbag loop or a restarted camera clock?): reset "
+      "the detector state (lane tracker, templates, previous plane), the synchroniser "
+      "queues%s%s",
+      static_cast<double>(jumps_->lastJumpNs()) * 1e-9, tf_buffer_ ? " and the tf buffer" : "",
+      jumps_not_logged_ > 0
+          ? (" (" + std::to_string(jumps_not_logged_) + " more jumps since the last line)").c_str()
+          : "");
+  last_jump_log_ = now;
+  jumps_not_logged_ = 0;
+  return true;
 }
 
 void LaneDetectorNodelet::readInitialConfig(ros::NodeHandle& pnh) {
@@ -292,14 +382,6 @@ FrameOutcome LaneDetectorNodelet::processFrame(const Image& colour, const Image&
   if (!outputTransform(image_header, T, out_header.frame_id))
     return FrameOutcome::kNoTargetTransform;
 
-  if (!last_stamp_.isZero() && image_header.stamp < last_stamp_) {
-    NODELET_INFO_THROTTLE(
-        1.0, "Input stamps went back %.3f s (rosbag loop?): resetting the detector state",
-        (last_stamp_ - image_header.stamp).toSec());
-    detector_.reset();
-  }
-  last_stamp_ = image_header.stamp;
-
   Status status;
   try {
     status = detector_.detect(frame, result_);
@@ -377,9 +459,11 @@ FrameOutcome LaneDetectorNodelet::dropFrame(FrameOutcome outcome, const char* pr
   return outcome;
 }
 
-void LaneDetectorNodelet::colourReceived(const sensor_msgs::ImageConstPtr& colour) {
+void LaneDetectorNodelet::colourReceived(const ImageEvent& event) {
+  const sensor_msgs::ImageConstPtr& colour = event.getMessage();
   accounting_->received(colour.get(), static_cast<int64_t>(colour->header.stamp.toNSec()),
                         colour->header.seq);
+  if (acceptInput(kColourInput, colour->header.stamp)) pass_colour_.add(event);
 }
 
 void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {

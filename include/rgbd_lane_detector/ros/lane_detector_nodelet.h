@@ -16,6 +16,7 @@
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <image_transport/subscriber_filter.h>
+#include <message_filters/pass_through.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -39,6 +40,7 @@ namespace rgbd_lane_detector {
 
 class FrameAccounting;  // src/ros/frame_accounting.h (private to the nodelet)
 enum class FrameOutcome : uint8_t;
+class StampJumpDetector;  // src/ros/stamp_jump_detector.h (private to the nodelet)
 
 class LaneDetectorNodelet : public nodelet::Nodelet {
  public:
@@ -48,6 +50,8 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
  private:
   using Image = sensor_msgs::Image;
   using CameraInfo = sensor_msgs::CameraInfo;
+  using ImageEvent = ros::MessageEvent<const Image>;
+  using CameraInfoEvent = ros::MessageEvent<const CameraInfo>;
   using ApproximatePolicy =
       message_filters::sync_policies::ApproximateTime<Image, Image, CameraInfo>;
   using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Image, CameraInfo>;
@@ -62,7 +66,17 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     }
   };
 
+  enum Input : size_t { kColourInput, kDepthInput, kInfoInput, kInputs };
+
   void onInit() override;
+  /// Throws (after a fatal log naming the plugin and its package) when ~image_transport or
+  /// ~depth_image_transport names a transport whose plugin is not installed.
+  void checkTransports(ros::NodeHandle& pnh);
+  /// (Re)create the synchroniser on the pass-throughs: empty queues.
+  void makeSynchroniser();
+  /// Every input message's stamp: a jump back in time resets what depends on time, once.
+  /// @return false for a late message from before the last jump (not to be synchronised)
+  bool acceptInput(size_t input, const ros::Time& stamp);
   void readInitialConfig(ros::NodeHandle& pnh);
   /// Subscribe to the inputs when any output has a subscriber, unsubscribe when none has.
   void connectCb();
@@ -73,8 +87,8 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   /// The frame's fate; @p detail names a drop's problem (static text) or stays null.
   FrameOutcome processFrame(const Image& colour, const Image& depth, const CameraInfo& info,
                             const char*& detail);
-  /// Every colour frame the nodelet receives (before the synchroniser): counted in accounting_.
-  void colourReceived(const sensor_msgs::ImageConstPtr& colour);
+  /// Every colour frame the nodelet receives: counted in accounting_, then acceptInput().
+  void colourReceived(const ImageEvent& event);
   Wanted wantedOutputs() const;
   /// Copy the latest reconfigured Params and the up axis into the detector when they changed.
   /// @return false (frame to skip) when the up axis is requested but unavailable.
@@ -94,9 +108,15 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   image_transport::SubscriberFilter sub_colour_;
   image_transport::SubscriberFilter sub_depth_;
   message_filters::Subscriber<CameraInfo> sub_info_;
-  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
-  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  message_filters::PassThrough<Image> pass_colour_, pass_depth_;
+  message_filters::PassThrough<CameraInfo> pass_info_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_filter_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_filter_;
+  bool approximate_sync_ = true;
   int queue_size_ = 5;
+  std::unique_ptr<StampJumpDetector> jumps_;  ///< input stamps going back (frame callbacks only)
+  ros::WallTime last_jump_log_;               ///< when a jump was last logged
+  uint64_t jumps_not_logged_ = 0;             ///< jumps since then (a stream going back and forth)
   std::mutex connect_mutex_;
 
   // --- outputs -----------------------------------------------------------------------------
@@ -115,7 +135,6 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   Result result_;
   Params frame_params_;  ///< parameters the detector runs with
   uint64_t applied_version_ = 0;
-  ros::Time last_stamp_;
   cv::Mat depth_swap_;  ///< byte-swapped depth (foreign-endian streams only)
 
   // --- tf -----------------------------------------------------------------------------------
