@@ -14,7 +14,7 @@ PACKAGES=(
   librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-sensor-msgs
   libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev
   python3-opencv python3-numpy python3-matplotlib
-  rviz xvfb xauth x11-utils libgl1-mesa-dri python3-roslaunch python3-rosgraph python3-rosparam
+  rviz xvfb xauth x11-utils libx11-dev libgl1-mesa-dri python3-roslaunch python3-rosgraph python3-rosparam
 )
 # Optional groups, installed only when named: `install_deps.sh fuzz` (make fuzz) adds these.
 FUZZ_PACKAGES=(clang-14 libclang-rt-14-dev)
