@@ -422,5 +422,37 @@ inline ::testing::AssertionResult accountingHolds(const std::map<std::string, st
   return ::testing::AssertionSuccess();
 }
 
+/// Unload the detector through its manager; it leaves the manager's list and its reconfigure
+/// service goes.
+inline ::testing::AssertionResult unloadDetectorFromManager() {
+  if (!g->unloadDetector(g->detector))
+    return ::testing::AssertionFailure() << "unload_nodelet " << g->detector << " failed";
+  std::vector<std::string> names;
+  if (!waitFor([&] {
+        return g->loadedNodelets(names) &&
+               std::find(names.begin(), names.end(), g->detector) == names.end();
+      }))
+    return ::testing::AssertionFailure() << "the manager still lists " << g->detector;
+  if (!waitFor([] { return !ros::service::exists(g->detector + "/set_parameters", false); }))
+    return ::testing::AssertionFailure()
+           << "the reconfigure service of " << g->detector << " outlived it";
+  return ::testing::AssertionSuccess();
+}
+
+/// main() of a rostest on this harness: gtest, ROS (node @p node, two spinner threads), the
+/// harness g, the tests.
+inline int runTests(int argc, char** argv, const char* node) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, node);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  g = new Harness;
+  const int result = RUN_ALL_TESTS();
+  delete g;
+  g = nullptr;
+  ros::shutdown();
+  return result;
+}
+
 }  // namespace ros_test
 }  // namespace rgbd_lane_detector

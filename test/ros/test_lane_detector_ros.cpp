@@ -544,27 +544,12 @@ TEST(LaneDetectorRos, DiagnosticsReportRateAndProcessingTime) {
 // unloading is checked (under ASan in make test-sanitize: the destructor runs instrumented).
 TEST(LaneDetectorRos, UnloadsFromItsManager) {
   if (g->manager.empty()) GTEST_SKIP() << "standalone node: no manager";
-  ASSERT_TRUE(g->unloadDetector(g->detector)) << "unload_nodelet failed";
-  std::vector<std::string> names;
-  EXPECT_TRUE(waitFor([&] {
-    return g->loadedNodelets(names) &&
-           std::find(names.begin(), names.end(), g->detector) == names.end();
-  })) << "the manager still lists the detector";
-  EXPECT_TRUE(waitFor([] { return !ros::service::exists(g->detector + "/set_parameters", false); }))
-      << "the detector's reconfigure service outlived it";
+  EXPECT_TRUE(unloadDetectorFromManager());
 }
 
 }  // namespace
 }  // namespace rgbd_lane_detector
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_lane_detector_ros");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  rgbd_lane_detector::ros_test::g = new rgbd_lane_detector::ros_test::Harness;
-  const int result = RUN_ALL_TESTS();
-  delete rgbd_lane_detector::ros_test::g;
-  ros::shutdown();
-  return result;
+  return rgbd_lane_detector::ros_test::runTests(argc, argv, "test_lane_detector_ros");
 }

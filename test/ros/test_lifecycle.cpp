@@ -308,14 +308,9 @@ TEST(Lifecycle, ManagerReloadsTheNodelet) {
     // a reconfigured value survives the reload (the server keeps it on the parameter server)
     const int tau_c = 20 + round;
     ASSERT_TRUE(setInt("tau_c", tau_c));
-    ASSERT_TRUE(g->unloadDetector(g->detector)) << "round " << round;
+    ASSERT_TRUE(unloadDetectorFromManager()) << "round " << round;
     EXPECT_TRUE(waitFor([] { return inputsSubscribed(false); }))
         << "round " << round << ": the unloaded nodelet still subscribes";
-    EXPECT_TRUE(
-        waitFor([] { return !ros::service::exists(g->detector + "/set_parameters", false); }));
-    std::vector<std::string> names;
-    ASSERT_TRUE(g->loadedNodelets(names)) << "the manager died with the unload";
-    EXPECT_EQ(std::count(names.begin(), names.end(), g->detector), 0);
 
     ASSERT_TRUE(g->loadDetector(g->detector)) << "round " << round;
     EXPECT_TRUE(validPlaneFrom(out, g->nextStamp())) << "round " << round << " after the reload";
@@ -330,12 +325,7 @@ TEST(Lifecycle, ManagerReloadsTheNodelet) {
 
 // Declared last: the manager is left as the launch found it.
 TEST(Lifecycle, UnloadsFromTheManager) {
-  ASSERT_TRUE(g->unloadDetector(g->detector));
-  std::vector<std::string> names;
-  EXPECT_TRUE(waitFor([&] {
-    return g->loadedNodelets(names) &&
-           std::find(names.begin(), names.end(), g->detector) == names.end();
-  }));
+  EXPECT_TRUE(unloadDetectorFromManager());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -445,20 +435,12 @@ TEST(LoopedBag, TimeGoingBackResetsOnceAndOutputsGoOn) {
   EXPECT_GT(counter(last, "Frames processed"), 0);
   expectAccountingInEveryReport();
   // the nodelet leaves the manager before the launch shuts down (docs/RELIABILITY.md)
-  EXPECT_TRUE(g->unloadDetector(g->detector));
+  EXPECT_TRUE(unloadDetectorFromManager());
 }
 
 }  // namespace
 }  // namespace rgbd_lane_detector
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_lifecycle");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  rgbd_lane_detector::ros_test::g = new rgbd_lane_detector::ros_test::Harness;
-  const int result = RUN_ALL_TESTS();
-  delete rgbd_lane_detector::ros_test::g;
-  ros::shutdown();
-  return result;
+  return rgbd_lane_detector::ros_test::runTests(argc, argv, "test_lifecycle");
 }
