@@ -97,6 +97,15 @@ for set in kitti2015 kitti_stereo_negative; do
   [ -d "$REALDATA/$set" ] && "$STEREO" --dataset "$REALDATA/$set" --threads 1 > "$EVAL_DIR/stereo_$set.md"
 done
 
+# The hand-labelled real frames (test/data/realdata_labels.yaml): each labelled ego boundary with
+# its kind, the negatives, with the LiDAR depth and with StereoSGBM depth; overlays into $IMAGES
+REAL="$(find_tool evaluate_real)"
+if [ -d "$REALDATA" ]; then
+  "$REAL" --labels "$ROOT/test/data/realdata_labels.yaml" --realdata "$REALDATA" --mode improved \
+    --mode paper --markdown "$EVAL_DIR/real.md" --csv "$EVAL_DIR/real.csv" --images "$IMAGES" ||
+    echo "evaluate.sh: evaluate_real found wrong sides (see $EVAL_DIR/real.md)" >&2
+fi
+
 # SOURCE_COMMIT: commit the tools were built from, when that is not this checkout's HEAD
 commit="${SOURCE_COMMIT:-$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
 dirty=""
@@ -126,6 +135,24 @@ fi
     for set in kitti2015 kitti_stereo_negative; do
       [ -f "$EVAL_DIR/stereo_$set.md" ] && { echo "$set: $(head -n 1 "$EVAL_DIR/stereo_$set.md")"; echo; tail -n +3 "$EVAL_DIR/stereo_$set.md"; echo; }
     done
+  fi
+  if [ -f "$EVAL_DIR/real.md" ]; then
+    echo "### Hand-labelled real frames"
+    echo
+    echo "\`evaluate_real\` on the frames of \`../shared/realdata\` labelled in"
+    echo "\`test/data/realdata_labels.yaml\` (each ego boundary an image polyline with its kind). A reported"
+    echo "side is right when at least 80% of its points lie within 0.30 m (laterally, on the LiDAR road"
+    echo "plane) of the labelled line of the same kind; any side reported on a frame without a lane is"
+    echo "wrong. The last column compares the reported plane with a RANSAC plane of the LiDAR road points."
+    echo
+    cat "$EVAL_DIR/real.md"
+    echo
+    echo "Overlays (improved mode; the labelled lines in thin white):"
+    echo
+    for f in "$IMAGES"/real_*_improved.jpg; do
+      [ -f "$f" ] && echo "- \`$(basename "$f" .jpg)\`: ![$(basename "$f" .jpg)](images/$(basename "$f"))"
+    done
+    echo
   fi
   echo "Pictures (paper mode left, improved right, middle frame of each sequence):"
   echo

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install the Debian packages rgbd_lane_detector needs to build, test and demo.
 # Idempotent: only missing packages are installed, so a second run is quick and silent.
-# With a group name (fuzz), installs that group's packages only.
+# With a group name (fuzz, load), installs that group's packages only.
 set -euo pipefail
 
 PACKAGES=(
@@ -15,14 +15,17 @@ PACKAGES=(
   librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-sensor-msgs
   libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev
   python3-opencv python3-numpy python3-matplotlib
-  rviz xvfb xauth x11-utils libgl1-mesa-dri python3-roslaunch python3-rosgraph python3-rosparam
+  rviz xvfb xauth x11-utils libx11-dev libgl1-mesa-dri python3-roslaunch python3-rosgraph python3-rosparam
 )
-# Optional groups, installed only when named: `install_deps.sh fuzz` (make fuzz) adds these.
+# Optional groups, installed only when named: `install_deps.sh fuzz` (make fuzz) and
+# `install_deps.sh load` (make test-load) add these.
 FUZZ_PACKAGES=(clang-14 libclang-rt-14-dev)
+LOAD_PACKAGES=(stress-ng)
 for group in "$@"; do
   case "$group" in
     fuzz) PACKAGES=("${FUZZ_PACKAGES[@]}") ;;
-    *) echo "install_deps: unknown package group '$group' (known: fuzz)" >&2; exit 1 ;;
+    load) PACKAGES=("${LOAD_PACKAGES[@]}") ;;
+    *) echo "install_deps: unknown package group '$group' (known: fuzz, load)" >&2; exit 1 ;;
   esac
 done
 

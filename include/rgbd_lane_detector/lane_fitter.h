@@ -95,6 +95,11 @@ class LaneFitter {
   void rejectIncomplete(Result& result) const;
   void smoothPlane(PlaneEstimate& plane) const;
   void copyTrace(const MarkerTrace& from, MarkerTrace& to) const;
+  /// Side @p side's road edge seen this frame: the least-squares straight line through its own
+  /// road-plane points @p road (forward, lateral), sampled over their range into @p out (camera
+  /// frame); @p out stays empty unless that line fits them clearly better than the lane model.
+  void edgeLine(int side, const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+                double step, std::vector<Eigen::Vector3f>& out) const;
 
   Params params_;
   PlaneEstimate previous_plane_;

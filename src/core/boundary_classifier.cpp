@@ -30,9 +30,9 @@ constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverag
 constexpr double kFollowReach = 0.15;        // m: a followed row's band is sought this close
 constexpr double kFollowFit = 4.0;            // m of road behind the last row found that make the line ahead
 constexpr double kEdgeReference[2] = {0.7, 1.0};  // m inside a road edge: the road's look
-constexpr double kEdgeBeyond = 0.2;          // m: an edge is sought up to this far beyond the line
-constexpr double kEdgeInside = 0.15;         // m: and up to this far inside it (a gutter is road)
-constexpr double kEdgeRun = 0.04;            // m of not-road in a row that make the edge
+constexpr double kEdgeBeyond = 0.3;          // m: an edge is sought up to this far beyond the line
+constexpr double kEdgeRun = 0.12;            // m of mostly not-road in a row that make the edge
+constexpr double kEdgeFill = 0.75;           // share of kEdgeRun that is not road
 
 float median(std::vector<float>& v) {
   if (v.empty()) return kNaN;
@@ -374,8 +374,9 @@ void BoundaryClassifier::locateEdge(const ClassifierInput& in, std::vector<cv::P
     const int ref0 = static_cast<int>(std::lround(kEdgeReference[0] * ppm));
     const int ref1 = static_cast<int>(std::lround(kEdgeReference[1] * ppm));
     const int beyond = static_cast<int>(std::lround(kEdgeBeyond * ppm));
+    const int far_end = beyond + static_cast<int>(std::lround(kEdgeRun * ppm)) + 3;
     if (u0 - out_dir * ref1 < 0 || u0 - out_dir * ref1 >= in.colour->cols ||
-        u0 + out_dir * beyond < 0 || u0 + out_dir * beyond >= in.colour->cols)
+        u0 + out_dir * far_end < 0 || u0 + out_dir * far_end >= in.colour->cols)
       continue;
     // the road well inside the line: its grey and colour
     side_.clear();
@@ -390,21 +391,23 @@ void BoundaryClassifier::locateEdge(const ClassifierInput& in, std::vector<cv::P
     const float road = median(side_);
     const float road_r = static_cast<float>(sr / side_.size()), road_g = static_cast<float>(sg / side_.size());
     const float brighter = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(road, 1.0f));
-    // outward: the first pixel of kEdgeRun in a row that is not road
-    const int run = std::max(2, static_cast<int>(std::lround(kEdgeRun * ppm)));
-    int count = 0, first = 0;
-    bool found = false;
-    const int inside = static_cast<int>(std::lround(kEdgeInside * ppm));
-    for (int k = -inside; k <= beyond; ++k) {
+    // outward from well inside the line: the first window of kEdgeRun that is mostly not road
+    // (a kerb face, a pavement, grass; a gutter's scattered leaves are not enough)
+    const int run = std::max(3, static_cast<int>(std::lround(kEdgeRun * ppm)));
+    other_.clear();
+    for (int k = -ref0; k <= beyond + run; ++k) {
       float grey, r, g;
       sample(in, u0 + out_dir * k, v, grey, r, g);
-      const bool other = grey - road >= brighter || std::hypot(r - road_r, g - road_g) >= p.edge_chroma;
-      if (!other) {
-        count = 0;
-        continue;
-      }
-      if (count++ == 0) first = k;
-      if (count >= run) {
+      other_.push_back(grey - road >= brighter || std::hypot(r - road_r, g - road_g) >= p.edge_chroma);
+    }
+    const int need = static_cast<int>(std::ceil(kEdgeFill * run));
+    int count = 0, first = 0;
+    bool found = false;
+    for (int j = 0; j < run; ++j) count += other_[j];
+    for (int j = 0; j + run <= static_cast<int>(other_.size()) && j - ref0 <= beyond; ++j) {
+      if (j > 0) count += other_[j + run - 1] - other_[j - 1];
+      if (count >= need && other_[j]) {
+        first = j - ref0;
         found = true;
         break;
       }

@@ -19,6 +19,12 @@ constexpr float kKindMemory = 0.8f;      // decay per frame of a side's kind vot
 constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence of 1 - 1/e
 constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
 constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
+constexpr int kMinEdgePoints = 5;       // own points of a road edge fitted as its own line
+constexpr int kMinEdgeSamples = 10;     // reported points of a road edge's own line: at least,
+constexpr int kMaxEdgeSamples = 40;     // at most,
+constexpr double kEdgeLineInlier = 0.15; // m: a road edge's points this near its line are its own
+constexpr double kEdgeTurn = 0.03;      // rad: ... when it turns away from the lane model by more
+constexpr double kMinEdgeLength = 2.0;  // m of its own points (a shorter edge: the lane model's)
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
 constexpr double kCrossProbe = 3.0;      // m ahead where a marker's side of the vehicle is told
 constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
@@ -360,8 +366,12 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       m.angle = c.trace.angle;
       m.angle_valid = c.trace.angle_valid;
     }
-    // reported: the side's model over its evidence's range, within the plane's range
-    tracker_.sample(i, frame, tp.sample_step, samples_);
+    // reported: the side's model over its evidence's range, within the plane's range; a road
+    // edge seen this frame as its own straight line (a kerb need not run parallel to the paint)
+    samples_.clear();
+    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0)
+      edgeLine(i, (*in.candidates)[i][chosen[i]].road, frame, tp.sample_step, samples_);
+    if (samples_.empty()) tracker_.sample(i, frame, tp.sample_step, samples_);
     for (const auto& q : samples_) {
       if (!(q.z() > 0.1f)) continue;
       if (frame.toPlane(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
@@ -503,6 +513,50 @@ void LaneFitter::rejectIncomplete(Result& result) const {
   result.left.found = false;
   result.right.found = false;
   result.left.confidence = result.right.confidence = 0.0f;
+}
+
+void LaneFitter::edgeLine(int side, const std::vector<Eigen::Vector2d>& road,
+                          const PlaneFrame& frame, double step, std::vector<Eigen::Vector3f>& out) const {
+  out.clear();
+  if (road.size() < static_cast<size_t>(kMinEdgePoints) || !(step > 0.0)) return;
+  // least-squares l = a + b f over the edge's own points (forward f, lateral l), refitted
+  // without the points farther than kEdgeLineInlier from the first fit
+  double a = 0.0, b = 0.0, near = 0.0, far = 0.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    double s1 = 0, sf = 0, sl = 0, sff = 0, sfl = 0;
+    near = std::numeric_limits<double>::infinity();
+    far = -near;
+    for (const auto& q : road) {
+      if (pass == 1 && std::fabs(q.y() - (a + b * q.x())) > kEdgeLineInlier) continue;
+      s1 += 1, sf += q.x(), sl += q.y(), sff += q.x() * q.x(), sfl += q.x() * q.y();
+      near = std::min(near, q.x());
+      far = std::max(far, q.x());
+    }
+    const double den = s1 * sff - sf * sf;
+    if (s1 < kMinEdgePoints || !(far - near > kMinEdgeLength) || !(std::fabs(den) > 1e-9)) return;
+    b = (s1 * sfl - sf * sl) / den;
+    a = (sl - b * sf) / s1;
+  }
+  // only when it turns away from the lane model significantly (a kerb that leaves the lane;
+  // where they agree the model is steadier): the slopes over the same range differ by more
+  // than kEdgeTurn and three standard errors of the line's slope
+  double s1 = 0, sf = 0, sff = 0, srr = 0;
+  for (const auto& q : road) {
+    const double r = q.y() - (a + b * q.x());
+    if (std::fabs(r) > kEdgeLineInlier) continue;
+    s1 += 1, sf += q.x(), sff += q.x() * q.x(), srr += r * r;
+  }
+  const double spread = sff - sf * sf / s1;  // sum of (f - mean f)^2
+  const double slope_se = std::sqrt(srr / std::max(1.0, s1 - 2.0) / std::max(spread, 1e-9));
+  const double model_slope = (tracker_.lateral(side, far) - tracker_.lateral(side, near)) / (far - near);
+  if (!(std::fabs(b - model_slope) > kEdgeTurn + 3.0 * slope_se)) return;
+  near = std::max(near, 0.5);
+  const int n = std::min(kMaxEdgeSamples,
+                         std::max(kMinEdgeSamples, static_cast<int>(std::ceil((far - near) / step))));
+  for (int k = 0; k < n; ++k) {  // uniform in 1/f, like LaneTracker::sample()
+    const double f = 1.0 / (1.0 / near + (1.0 / far - 1.0 / near) * k / (n - 1));
+    out.push_back(frame.toCamera(f, a + b * f).cast<float>());
+  }
 }
 
 }  // namespace rgbd_lane_detector

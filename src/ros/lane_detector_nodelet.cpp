@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
@@ -20,9 +21,11 @@
 #include <rgbd_lane_detector/LaneModel.h>
 #include <rgbd_lane_detector/LanePlane.h>
 
+#include "frame_accounting.h"
 #include "rgbd_lane_detector/lane_model.h"
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector/ros/conversions.h"
+#include "stamp_jump_detector.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -32,42 +35,54 @@ using namespace boost::placeholders;
 namespace conv = conversions;
 
 constexpr double kThrottle = 5.0;  // s between repeated per-frame warnings / errors
-// processFrame's outcome for a frame synchronised after the last output subscriber left
-constexpr char kSkippedFrame[] = "skipped: no output subscriber";
-constexpr char kOtherReasons[] = "other reasons";  // drop-reason table full
+
+/// The package of image_transport_plugins that provides a transport's plugins (null: unknown).
+const char* transportPackage(const std::string& transport) {
+  if (transport == "compressed") return "compressed_image_transport";
+  if (transport == "compressedDepth") return "compressed_depth_image_transport";
+  if (transport == "theora") return "theora_image_transport";
+  return nullptr;
+}
 
 }  // namespace
 
 LaneDetectorNodelet::~LaneDetectorNodelet() {
   diagnostics_timer_.stop();
+  // no input callback after this point (they use the members destroyed next)
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  sub_colour_.unsubscribe();
+  sub_depth_.unsubscribe();
+  sub_info_.unsubscribe();
 }
 
 void LaneDetectorNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   it_ = std::make_shared<image_transport::ImageTransport>(nh);
+  accounting_.reset(new FrameAccounting);
 
-  // Synchronised inputs; the subscriptions themselves are made in connectCb. Every colour
-  // frame is counted before the synchroniser sees it (callbacks run in registration order).
-  sub_colour_.registerCallback(boost::function<void(const sensor_msgs::ImageConstPtr&)>(
+  // A configured image transport whose plugin is missing fails here, naming it (otherwise the
+  // first output subscriber would make the nodelet subscribe and fail silently, with no frames).
+  checkTransports(pnh);
+
+  // Inputs: subscriber -> bookkeeping -> pass-through -> synchroniser. The bookkeeping counts
+  // every colour frame, checks every stamp for a jump back in time and drops the late messages
+  // from before a jump; the pass-throughs let a jump replace the synchroniser from inside a
+  // subscriber's callback. The subscriptions themselves are made in connectCb.
+  sub_colour_.registerCallback(boost::function<void(const ImageEvent&)>(
       boost::bind(&LaneDetectorNodelet::colourReceived, this, _1)));
+  sub_depth_.registerCallback(boost::function<void(const ImageEvent&)>([this](const ImageEvent& e) {
+    if (acceptInput(kDepthInput, e.getMessage()->header.stamp)) pass_depth_.add(e);
+  }));
+  sub_info_.registerCallback(
+      boost::function<void(const CameraInfoEvent&)>([this](const CameraInfoEvent& e) {
+        if (acceptInput(kInfoInput, e.getMessage()->header.stamp)) pass_info_.add(e);
+      }));
+  jumps_.reset(new StampJumpDetector(kInputs));
   pnh.param("queue_size", queue_size_, 5);
   queue_size_ = std::max(1, queue_size_);
-  bool approximate_sync = true;
-  pnh.param("approximate_sync", approximate_sync, true);
-  if (approximate_sync) {
-    approximate_sync_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
-        ApproximatePolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
-    approximate_sync_->setReset(true);  // sim time jumping back (rosbag loop) clears the queues
-    approximate_sync_->registerCallback(
-        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
-  } else {
-    exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(
-        ExactPolicy(queue_size_), sub_colour_, sub_depth_, sub_info_));
-    exact_sync_->setReset(true);
-    exact_sync_->registerCallback(
-        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
-  }
+  pnh.param("approximate_sync", approximate_sync_, true);
+  makeSynchroniser();
 
   // tf: only when an output frame, an up frame or the lane model's vehicle frame is requested.
   pnh.param<std::string>("target_frame", target_frame_, "");
@@ -127,9 +142,84 @@ void LaneDetectorNodelet::onInit() {
   pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
   pub_debug_ = it_->advertise("debug_image", 1, image_connect_cb, image_connect_cb);
   NODELET_INFO("Lane detector ready (%s sync, output frame: %s, up axis: %s)",
-               approximate_sync ? "approximate" : "exact",
+               approximate_sync_ ? "approximate" : "exact",
                target_frame_.empty() ? "colour optical frame" : target_frame_.c_str(),
                up_frame_.empty() ? "camera -y" : ("+z of " + up_frame_).c_str());
+}
+
+void LaneDetectorNodelet::checkTransports(ros::NodeHandle& pnh) {
+  std::string missing;
+  std::vector<std::string> loadable;  // "<package>/<transport>", looked up once if needed
+  for (const char* param : {"image_transport", "depth_image_transport"}) {
+    std::string transport;
+    pnh.param<std::string>(param, transport, "raw");
+    if (transport == "raw") continue;  // built into image_transport
+    if (loadable.empty()) loadable = it_->getLoadableTransports();
+    const bool found = std::any_of(loadable.begin(), loadable.end(), [&](const std::string& l) {
+      return l.size() > transport.size() &&
+             l.compare(l.size() - transport.size() - 1, std::string::npos, "/" + transport) == 0;
+    });
+    if (found) continue;
+    std::string names;
+    for (const std::string& l : loadable) names += (names.empty() ? "" : ", ") + l;
+    const char* package = transportPackage(transport);
+    missing += std::string(missing.empty() ? "" : " ") + "Image transport '" + transport +
+               "' (parameter ~" + param + ") is not installed: image_transport has no '" +
+               transport + "' subscriber plugin here (loadable: " + names + ").";
+    if (package)
+      missing += std::string(" It is provided by the package ") + package +
+                 " (ROS Noetic: ros-noetic-image-transport-plugins).";
+    missing += std::string(" Install it, or set ~") + param + " to raw.";
+  }
+  if (missing.empty()) return;
+  NODELET_FATAL("%s", missing.c_str());
+  throw std::runtime_error(missing);  // the manager (or lane_detector_node) refuses to load us
+}
+
+void LaneDetectorNodelet::makeSynchroniser() {
+  // the old one (if any) is destroyed first: it disconnects from the pass-throughs
+  if (approximate_sync_) {
+    approximate_sync_filter_.reset();
+    approximate_sync_filter_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
+        ApproximatePolicy(queue_size_), pass_colour_, pass_depth_, pass_info_));
+    approximate_sync_filter_->registerCallback(
+        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+  } else {
+    exact_sync_filter_.reset();
+    exact_sync_filter_.reset(new message_filters::Synchronizer<ExactPolicy>(
+        ExactPolicy(queue_size_), pass_colour_, pass_depth_, pass_info_));
+    exact_sync_filter_->registerCallback(
+        boost::bind(&LaneDetectorNodelet::frameCallback, this, _1, _2, _3));
+  }
+}
+
+bool LaneDetectorNodelet::acceptInput(size_t input, const ros::Time& stamp) {
+  const StampJumpDetector::Verdict verdict =
+      jumps_->update(input, static_cast<int64_t>(stamp.toNSec()));
+  if (verdict == StampJumpDetector::Verdict::kStale) return false;  // from before the last jump
+  if (verdict == StampJumpDetector::Verdict::kCurrent) return true;
+  // Time went back (rosbag loop, a camera clock restarting): everything that depends on time
+  // starts again, said in one line. The images synchronised from now on are this epoch's only.
+  detector_.reset();  // lane tracker, lane model, adapted templates, previous plane
+  last_model_stamp_ = ros::Time();  // no odometry prediction across the jump
+  makeSynchroniser();
+  if (tf_buffer_) tf_buffer_->clear();  // transforms of the old epoch (static ones are kept)
+  const ros::WallTime now = ros::WallTime::now();  // wall time: sim time itself went back
+  if (now - last_jump_log_ < ros::WallDuration(1.0)) {
+    ++jumps_not_logged_;  // a stream going back and forth: at most one line a second
+    return true;
+  }
+  NODELET_WARN(
+      "Input stamps went back %.3f s (rosbag loop or a restarted camera clock?): reset "
+      "the detector state (lane tracker, templates, previous plane), the synchroniser "
+      "queues%s%s",
+      static_cast<double>(jumps_->lastJumpNs()) * 1e-9, tf_buffer_ ? " and the tf buffer" : "",
+      jumps_not_logged_ > 0
+          ? (" (" + std::to_string(jumps_not_logged_) + " more jumps since the last line)").c_str()
+          : "");
+  last_jump_log_ = now;
+  jumps_not_logged_ = 0;
+  return true;
 }
 
 void LaneDetectorNodelet::readInitialConfig(ros::NodeHandle& pnh) {
@@ -181,8 +271,7 @@ void LaneDetectorNodelet::connectCb() {
     sub_colour_.subscribe(*it_, "rgb/image_rect_color", queue_size_, colour_hints);
     sub_depth_.subscribe(*it_, "depth_registered/image_rect", queue_size_, depth_hints);
     sub_info_.subscribe(nh, "rgb/camera_info", queue_size_);
-    std::lock_guard<std::mutex> stats_lock(stats_mutex_);
-    stats_.seq_restart = true;  // seq gaps across an unsubscribed period are not losses
+    accounting_->restartSequence();  // seq gaps across an unsubscribed period are not losses
   }
 }
 
@@ -308,35 +397,31 @@ void LaneDetectorNodelet::frameCallback(const sensor_msgs::ImageConstPtr& colour
                                         const sensor_msgs::ImageConstPtr& depth,
                                         const sensor_msgs::CameraInfoConstPtr& info) {
   const Clock::time_point start = Clock::now();
-  const char* outcome = processFrame(*colour, *depth, *info);
-  accountFrame(*colour, outcome,
-               std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  const char* detail = nullptr;
+  const FrameOutcome outcome = processFrame(*colour, *depth, *info, detail);
+  const double callback_ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  accounting_->synchronised(colour.get(), static_cast<int64_t>(colour->header.stamp.toNSec()),
+                            outcome, detail, callback_ms, result_.timings.total);
 }
 
-const char* LaneDetectorNodelet::processFrame(const Image& colour, const Image& depth,
-                                              const CameraInfo& info) {
+FrameOutcome LaneDetectorNodelet::processFrame(const Image& colour, const Image& depth,
+                                               const CameraInfo& info, const char*& detail) {
   const Wanted wanted = wantedOutputs();
-  if (!wanted.any()) return kSkippedFrame;  // the last subscriber left while this frame was queued
+  if (!wanted.any()) return FrameOutcome::kSkipped;  // the last subscriber left meanwhile
   const std_msgs::Header& image_header = colour.header;
 
-  if (!updateDetectorParams(image_header.frame_id)) return "no transform from up_frame";
+  if (!updateDetectorParams(image_header.frame_id)) return FrameOutcome::kNoUpTransform;
   Frame frame;
   if (const char* problem = conv::frameFromMsgs(colour, depth, info, frame, depth_swap_))
-    return dropFrame(problem, colour, depth);
+    return dropFrame(FrameOutcome::kBadMessage, problem, detail, colour, depth);
   const Status valid = detector_.validate(frame);
-  if (valid != Status::kOk) return dropFrame(statusMessage(valid), colour, depth);
+  if (valid != Status::kOk)
+    return dropFrame(FrameOutcome::kInvalidFrame, statusMessage(valid), detail, colour, depth);
   std_msgs::Header out_header = image_header;
   Eigen::Isometry3d T;
-  if (!outputTransform(image_header, T, out_header.frame_id)) return "no transform to target_frame";
-
-  if (!last_stamp_.isZero() && image_header.stamp < last_stamp_) {
-    NODELET_INFO_THROTTLE(
-        1.0, "Input stamps went back %.3f s (rosbag loop?): resetting the detector state",
-        (last_stamp_ - image_header.stamp).toSec());
-    detector_.reset();
-    last_model_stamp_ = ros::Time();
-  }
-  last_stamp_ = image_header.stamp;
+  if (!outputTransform(image_header, T, out_header.frame_id))
+    return FrameOutcome::kNoTargetTransform;
   setVehicleFrame(image_header, frame);
 
   Status status;
@@ -344,12 +429,13 @@ const char* LaneDetectorNodelet::processFrame(const Image& colour, const Image& 
     status = detector_.detect(frame, result_);
   } catch (const std::exception& e) {  // never expected: the frame was validated
     NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: detector failed: %s", e.what());
-    return "detector exception";
+    return FrameOutcome::kDetectorException;
   }
-  if (status != Status::kOk) return dropFrame(statusMessage(status), colour, depth);
+  if (status != Status::kOk)
+    return dropFrame(FrameOutcome::kInvalidFrame, statusMessage(status), detail, colour, depth);
   publishOutputs(wanted, frame, image_header, out_header, T);
   rate_diagnostic_->tick(image_header.stamp);
-  return nullptr;
+  return FrameOutcome::kProcessed;
 }
 
 void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& frame,
@@ -421,94 +507,21 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
   }
 }
 
-const char* LaneDetectorNodelet::dropFrame(const char* problem, const Image& colour,
-                                           const Image& depth) {
+FrameOutcome LaneDetectorNodelet::dropFrame(FrameOutcome outcome, const char* problem,
+                                            const char*& detail, const Image& colour,
+                                            const Image& depth) {
   NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: %s [colour %s %ux%u, depth %s %ux%u]", problem,
                          colour.encoding.c_str(), colour.width, colour.height,
                          depth.encoding.c_str(), depth.width, depth.height);
-  return problem;
+  detail = problem;
+  return outcome;
 }
 
-void LaneDetectorNodelet::colourReceived(const sensor_msgs::ImageConstPtr& colour) {
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  Stats& s = stats_;
-  ++s.received;
-  // Frames lost before the nodelet (transport, full subscriber queue): gaps in header.seq,
-  // which publishers number per message sent. A new run starts at each (re)subscription; a seq
-  // that does not increase (restarted publisher, publishers leaving seq at 0) counts nothing.
-  const uint32_t seq = colour->header.seq;
-  if (!s.seq_restart && seq > s.last_seq) s.lost_before += seq - s.last_seq - 1;
-  s.seq_restart = false;
-  s.last_seq = seq;
-  // Pending until the synchroniser emits it or a later frame. The synchroniser holds at most
-  // queue_size colour frames, so a frame evicted from the full ring was dropped there.
-  if (s.pending_count == kPendingCapacity) {
-    s.pending_head = (s.pending_head + 1) % kPendingCapacity;
-    --s.pending_count;
-    ++s.not_synchronised;
-    ++s.ring_overflow;
-  }
-  PendingFrame& p = s.pending[(s.pending_head + s.pending_count) % kPendingCapacity];
-  p.msg = colour.get();
-  p.stamp = colour->header.stamp;
-  ++s.pending_count;
-}
-
-void LaneDetectorNodelet::accountFrame(const Image& colour, const char* outcome,
-                                       double callback_ms) {
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  Stats& s = stats_;
-  ++s.synchronised;
-  // The synchronisers emit each topic's messages in arrival order and discard the ones they
-  // pass over: every pending frame received before this one was not synchronised.
-  size_t i = 0;
-  const auto at = [&s](size_t k) -> PendingFrame& {
-    return s.pending[(s.pending_head + k) % kPendingCapacity];
-  };
-  while (i < s.pending_count && !(at(i).msg == &colour && at(i).stamp == colour.header.stamp)) ++i;
-  if (i == s.pending_count) {  // same stamp, other message object (never expected)
-    i = 0;
-    while (i < s.pending_count && at(i).stamp != colour.header.stamp) ++i;
-  }
-  if (i < s.pending_count) {
-    s.not_synchronised += i;
-    s.pending_head = (s.pending_head + i + 1) % kPendingCapacity;
-    s.pending_count -= i + 1;
-  } else if (s.not_synchronised > 0) {  // already counted as passed over (ring overflow, ExactTime
-    --s.not_synchronised;               // emitting an older stamp after a newer one)
-    ++s.late_synchronised;
-  } else {
-    ++s.untracked;
-  }
-
-  if (outcome == nullptr) {
-    ++s.processed;
-    ++s.window_count;
-    s.window_callback_ms += callback_ms;
-    s.window_detect_ms += result_.timings.total;
-    s.window_max_ms = std::max(s.window_max_ms, callback_ms);
-    return;
-  }
-  if (outcome == kSkippedFrame) {
-    ++s.skipped;
-    return;
-  }
-  ++s.dropped;
-  ++s.window_dropped;
-  s.last_drop = outcome;
-  DropCount* slot = nullptr;
-  for (DropCount& d : s.drop_counts) {
-    if (d.reason == nullptr || d.reason == outcome || std::strcmp(d.reason, outcome) == 0) {
-      slot = &d;
-      break;
-    }
-  }
-  if (slot == nullptr || (slot == &s.drop_counts[kMaxDropReasons - 1] && slot->reason != outcome)) {
-    slot = &s.drop_counts[kMaxDropReasons - 1];  // table full: the last slot takes the rest
-    outcome = kOtherReasons;
-  }
-  slot->reason = outcome;
-  ++slot->count;
+void LaneDetectorNodelet::colourReceived(const ImageEvent& event) {
+  const sensor_msgs::ImageConstPtr& colour = event.getMessage();
+  accounting_->received(colour.get(), static_cast<int64_t>(colour->header.stamp.toNSec()),
+                        colour->header.seq);
+  if (acceptInput(kColourInput, colour->header.stamp)) pass_colour_.add(event);
 }
 
 void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat) {
@@ -517,46 +530,40 @@ void LaneDetectorNodelet::processingDiagnostics(diagnostic_updater::DiagnosticSt
     std::lock_guard<std::mutex> lock(connect_mutex_);
     subscribed = static_cast<bool>(sub_colour_.getSubscriber());
   }
-  std::lock_guard<std::mutex> lock(stats_mutex_);
-  Stats& s = stats_;
-  const double n = static_cast<double>(std::max<uint64_t>(s.window_count, 1));
-  if (s.window_dropped > 0)
+  const FrameAccounting::Report r = accounting_->report();
+  const double n = static_cast<double>(std::max<uint64_t>(r.window_processed, 1));
+  if (r.window_dropped > 0)
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%lu frame(s) dropped: %s",
-                  static_cast<unsigned long>(s.window_dropped), s.last_drop);
+                  static_cast<unsigned long>(r.window_dropped), r.last_drop);
   else if (!subscribed)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Idle: no subscribers");
-  else if (s.window_count == 0)
+  else if (r.window_processed == 0)
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "Waiting for frames");
   else
     stat.summaryf(diagnostic_msgs::DiagnosticStatus::OK, "%.1f ms per frame",
-                  s.window_callback_ms / n);
+                  r.window_callback_ms / n);
   // Cumulative accounting of every colour frame received (docs/NODELET.md):
   // received == processed + dropped + skipped + not synchronised + waiting.
-  const uint64_t waiting = s.pending_count;
   stat.add("Inputs subscribed", subscribed);
-  stat.add("Frames received", s.received);
-  stat.add("Frames synchronised", s.synchronised);
-  stat.add("Frames processed", s.processed);
-  stat.add("Frames dropped", s.dropped);
-  stat.add("Frames skipped (no subscriber)", s.skipped);
-  stat.add("Frames not synchronised", s.not_synchronised);
-  stat.add("Frames waiting", waiting);
-  stat.add("Frames unaccounted", static_cast<int64_t>(s.received) -
-                                     static_cast<int64_t>(s.processed + s.dropped + s.skipped +
-                                                          s.not_synchronised + waiting));
-  stat.add("Frames lost before the nodelet", s.lost_before);
-  stat.add("Pending ring overflows", s.ring_overflow);
-  stat.add("Frames synchronised late", s.late_synchronised);
-  if (s.untracked > 0) stat.add("Frames synchronised untracked", s.untracked);
-  for (const DropCount& d : s.drop_counts)
-    if (d.reason != nullptr) stat.add(std::string("Dropped: ") + d.reason, d.count);
-  stat.add("Last drop reason", s.last_drop);
-  stat.addf("Mean processing time (ms)", "%.3f", s.window_callback_ms / n);
-  stat.addf("Mean detector time (ms)", "%.3f", s.window_detect_ms / n);
-  stat.addf("Mean ROS overhead (ms)", "%.3f", (s.window_callback_ms - s.window_detect_ms) / n);
-  stat.addf("Max processing time (ms)", "%.3f", s.window_max_ms);
-  s.window_count = s.window_dropped = 0;
-  s.window_callback_ms = s.window_detect_ms = s.window_max_ms = 0.0;
+  stat.add("Frames received", r.received);
+  stat.add("Frames synchronised", r.synchronised);
+  stat.add("Frames processed", r.processed);
+  stat.add("Frames dropped", r.dropped);
+  stat.add("Frames skipped (no subscriber)", r.skipped);
+  stat.add("Frames not synchronised", r.not_synchronised);
+  stat.add("Frames waiting", r.waiting);
+  stat.add("Frames unaccounted", r.unaccounted());
+  stat.add("Frames lost before the nodelet", r.lost_before);
+  stat.add("Pending ring overflows", r.ring_overflow);
+  stat.add("Frames synchronised late", r.late_synchronised);
+  if (r.untracked > 0) stat.add("Frames synchronised untracked", r.untracked);
+  for (size_t k = 0; k < r.drop_reasons; ++k)
+    stat.add(std::string("Dropped: ") + r.drops[k].reason, r.drops[k].count);
+  stat.add("Last drop reason", std::string(r.last_drop));
+  stat.addf("Mean processing time (ms)", "%.3f", r.window_callback_ms / n);
+  stat.addf("Mean detector time (ms)", "%.3f", r.window_detect_ms / n);
+  stat.addf("Mean ROS overhead (ms)", "%.3f", (r.window_callback_ms - r.window_detect_ms) / n);
+  stat.addf("Max processing time (ms)", "%.3f", r.window_max_ms);
 }
 
 }  // namespace rgbd_lane_detector

@@ -45,6 +45,7 @@ import rosbag
 import rosgraph
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
+from nodelet.srv import NodeletList, NodeletUnload
 from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 from visualization_msgs.msg import MarkerArray
 
@@ -228,6 +229,20 @@ def generate_bag(frames, width, height, out_dir):
                            '--width', str(width), '--height', str(height), '--out', os.path.join(out_dir, 'seq'),
                            '--bag', bag, '--quiet'])
     return bag
+
+
+def unload_nodelet(manager, node):
+    """Unload node from manager; True when the manager no longer lists it."""
+    try:
+        rospy.wait_for_service(manager + '/unload_nodelet', timeout=30)
+        if not rospy.ServiceProxy(manager + '/unload_nodelet', NodeletUnload)(name=node).success:
+            log('unload_nodelet %s failed' % node)
+            return False
+        return wait_until(lambda: node not in rospy.ServiceProxy(manager + '/list', NodeletList)().nodelets,
+                          30.0)
+    except (rospy.ROSException, rospy.ServiceException) as e:
+        log('unloading %s: %s' % (node, e))
+        return False
 
 
 def node_pid(name):
@@ -487,6 +502,10 @@ class Soak:
             diag_age = time.time() - self.mon.diag_time if self.mon.diag_time else None
         self.set_subscribers([])
         alive = self.alive and rss_kb(self.pid) is not None and self._lookup(node) is not None
+        # the nodelet leaves the manager before the launch shuts down (which keeps the manager's
+        # exit clear of nodelet_core's bond use-after-free, docs/RELIABILITY.md): unloaded, gone
+        # from the manager's list, the manager alive
+        unloaded = alive and unload_nodelet(manager, node) and rss_kb(self.pid) is not None
 
         # --- checks ---------------------------------------------------------------------------
         received = counter(final, 'Frames received')
@@ -513,6 +532,7 @@ class Soak:
             'every_frame_accounted': accounting_ok,
             'rss_growth_below_limit': rss_ok,
             'no_nan_in_outputs': nan_total == 0 and sum(self.mon.messages.values()) > 0,
+            'unloads_from_the_manager': unloaded,
         }
         report = {
             'pass': all(checks.values()),

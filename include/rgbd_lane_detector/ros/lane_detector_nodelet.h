@@ -16,6 +16,7 @@
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <image_transport/subscriber_filter.h>
+#include <message_filters/pass_through.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -38,6 +39,10 @@
 
 namespace rgbd_lane_detector {
 
+class FrameAccounting;  // src/ros/frame_accounting.h (private to the nodelet)
+enum class FrameOutcome : uint8_t;
+class StampJumpDetector;  // src/ros/stamp_jump_detector.h (private to the nodelet)
+
 class LaneDetectorNodelet : public nodelet::Nodelet {
  public:
   LaneDetectorNodelet() = default;
@@ -46,6 +51,8 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
  private:
   using Image = sensor_msgs::Image;
   using CameraInfo = sensor_msgs::CameraInfo;
+  using ImageEvent = ros::MessageEvent<const Image>;
+  using CameraInfoEvent = ros::MessageEvent<const CameraInfo>;
   using ApproximatePolicy =
       message_filters::sync_policies::ApproximateTime<Image, Image, CameraInfo>;
   using ExactPolicy = message_filters::sync_policies::ExactTime<Image, Image, CameraInfo>;
@@ -61,47 +68,17 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     }
   };
 
-  /// Frames dropped for one reason (static text, compared by address then by content).
-  struct DropCount {
-    const char* reason = nullptr;
-    uint64_t count = 0;
-  };
-  /// A colour frame received and not yet emitted by the synchroniser (identity and stamp).
-  struct PendingFrame {
-    const void* msg = nullptr;
-    ros::Time stamp;
-  };
-  static constexpr size_t kMaxDropReasons = 24;  ///< the last slot counts every further reason
-  static constexpr size_t kPendingCapacity = 256;
-
-  /// Per-frame statistics for the diagnostics (guarded by stats_mutex_). Every colour frame
-  /// received is, at any time, exactly one of: processed, dropped (by reason), skipped, not
-  /// synchronised, or waiting (in `pending`); see docs/NODELET.md.
-  struct Stats {
-    uint64_t received = 0;           ///< colour frames received by the nodelet (total)
-    uint64_t synchronised = 0;       ///< sets emitted by the synchroniser (total)
-    uint64_t processed = 0;          ///< frames published (total)
-    uint64_t dropped = 0;            ///< frames dropped (total, the sum of drop_counts)
-    uint64_t skipped = 0;            ///< synchronised after the last output subscriber left
-    uint64_t not_synchronised = 0;   ///< received, then overtaken by a later synchronised frame
-    uint64_t ring_overflow = 0;      ///< part of not_synchronised: evicted from a full `pending`
-    uint64_t late_synchronised = 0;  ///< emitted after being counted as not synchronised
-    uint64_t untracked = 0;          ///< emitted but never received (never expected)
-    uint64_t lost_before = 0;        ///< gaps in the colour header.seq while subscribed
-    bool seq_restart = true;         ///< next colour seq starts a new run (subscribe, seq back)
-    uint32_t last_seq = 0;
-    DropCount drop_counts[kMaxDropReasons];
-    PendingFrame pending[kPendingCapacity];  ///< ring in arrival order
-    size_t pending_head = 0, pending_count = 0;
-    uint64_t window_count = 0;      ///< processed since the last diagnostics update
-    uint64_t window_dropped = 0;    ///< dropped since the last diagnostics update
-    double window_callback_ms = 0;  ///< sum of whole-callback times in the window
-    double window_detect_ms = 0;    ///< sum of core detect() times in the window
-    double window_max_ms = 0;       ///< slowest callback in the window
-    const char* last_drop = "";     ///< static description of the last drop
-  };
+  enum Input : size_t { kColourInput, kDepthInput, kInfoInput, kInputs };
 
   void onInit() override;
+  /// Throws (after a fatal log naming the plugin and its package) when ~image_transport or
+  /// ~depth_image_transport names a transport whose plugin is not installed.
+  void checkTransports(ros::NodeHandle& pnh);
+  /// (Re)create the synchroniser on the pass-throughs: empty queues.
+  void makeSynchroniser();
+  /// Every input message's stamp: a jump back in time resets what depends on time, once.
+  /// @return false for a late message from before the last jump (not to be synchronised)
+  bool acceptInput(size_t input, const ros::Time& stamp);
   void readInitialConfig(ros::NodeHandle& pnh);
   /// Subscribe to the inputs when any output has a subscriber, unsubscribe when none has.
   void connectCb();
@@ -109,12 +86,11 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   void frameCallback(const sensor_msgs::ImageConstPtr& colour,
                      const sensor_msgs::ImageConstPtr& depth,
                      const sensor_msgs::CameraInfoConstPtr& info);
-  /// The frame's fate: nullptr processed, kSkippedFrame skipped, else the drop reason.
-  const char* processFrame(const Image& colour, const Image& depth, const CameraInfo& info);
-  /// Every colour frame the nodelet receives (before the synchroniser): counts, seq gaps, ring.
-  void colourReceived(const sensor_msgs::ImageConstPtr& colour);
-  /// Account one synchronised frame with its fate (processFrame's result) and callback time.
-  void accountFrame(const Image& colour, const char* outcome, double callback_ms);
+  /// The frame's fate; @p detail names a drop's problem (static text) or stays null.
+  FrameOutcome processFrame(const Image& colour, const Image& depth, const CameraInfo& info,
+                            const char*& detail);
+  /// Every colour frame the nodelet receives: counted in accounting_, then acceptInput().
+  void colourReceived(const ImageEvent& event);
   Wanted wantedOutputs() const;
   /// Copy the latest reconfigured Params and the up axis into the detector when they changed.
   /// @return false (frame to skip) when the up axis is requested but unavailable.
@@ -127,8 +103,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   void publishOutputs(const Wanted& wanted, const Frame& frame,
                       const std_msgs::Header& image_header, const std_msgs::Header& out_header,
                       const Eigen::Isometry3d& T);
-  /// Bad input: a throttled error naming the problem; returns @p problem (static text).
-  const char* dropFrame(const char* problem, const Image& colour, const Image& depth);
+  /// Bad input: a throttled error naming the problem; returns @p outcome with @p detail = problem.
+  FrameOutcome dropFrame(FrameOutcome outcome, const char* problem, const char*& detail,
+                         const Image& colour, const Image& depth);
   void processingDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
   // --- inputs (declared before the synchronisers, which hold references to them) ---------------
@@ -136,9 +113,15 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   image_transport::SubscriberFilter sub_colour_;
   image_transport::SubscriberFilter sub_depth_;
   message_filters::Subscriber<CameraInfo> sub_info_;
-  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
-  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  message_filters::PassThrough<Image> pass_colour_, pass_depth_;
+  message_filters::PassThrough<CameraInfo> pass_info_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_filter_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_filter_;
+  bool approximate_sync_ = true;
   int queue_size_ = 5;
+  std::unique_ptr<StampJumpDetector> jumps_;  ///< input stamps going back (frame callbacks only)
+  ros::WallTime last_jump_log_;               ///< when a jump was last logged
+  uint64_t jumps_not_logged_ = 0;             ///< jumps since then (a stream going back and forth)
   std::mutex connect_mutex_;
 
   // --- outputs -----------------------------------------------------------------------------
@@ -157,7 +140,6 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   Result result_;
   Params frame_params_;  ///< parameters the detector runs with
   uint64_t applied_version_ = 0;
-  ros::Time last_stamp_;
   cv::Mat depth_swap_;  ///< byte-swapped depth (foreign-endian streams only)
 
   // --- tf -----------------------------------------------------------------------------------
@@ -179,8 +161,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   double min_rate_ = 1.0, max_rate_ = 100.0;
   std::unique_ptr<diagnostic_updater::TopicDiagnostic> rate_diagnostic_;
   ros::Timer diagnostics_timer_;
-  std::mutex stats_mutex_;
-  Stats stats_;
+  std::unique_ptr<FrameAccounting> accounting_;  ///< every colour frame's fate (thread-safe)
 };
 
 }  // namespace rgbd_lane_detector
