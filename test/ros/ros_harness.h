@@ -72,6 +72,8 @@ class Collector {
     sub_ = nh.subscribe<M>(topic, 50, &Collector::callback, this);
   }
   void shutdown() { sub_.shutdown(); }
+  /// Publishers this subscriber is connected to.
+  uint32_t numPublishers() const { return sub_.getNumPublishers(); }
   void clear() {
     std::lock_guard<std::mutex> lock(g_mutex);
     msgs_.clear();
@@ -251,6 +253,18 @@ class Harness {
     pub_colour.shutdown();
     pub_depth.shutdown();
     pub_info.shutdown();
+  }
+
+  /// True once the /rosout collector is connected to every node publishing /rosout (the master's
+  /// list): lines logged before a node's connection is made are lost, /rosout is not latched.
+  bool rosoutConnected() {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    if (!ros::master::execute("getSystemState", args, result, payload, false)) return false;
+    int publishers = 0;
+    for (int i = 0; i < payload[0].size(); ++i)
+      if (static_cast<std::string>(payload[0][i][0]) == "/rosout") publishers = payload[0][i][1].size();
+    return publishers > 0 && rosout.numPublishers() >= static_cast<uint32_t>(publishers);
   }
 
   /// Call the manager's load_nodelet (no bond: this process owns the nodelet's life), for the
