@@ -51,6 +51,16 @@ bool robustLine(const std::vector<Eigen::Vector2d>& m, double& a, double& b) {
   return have;
 }
 
+// Not reported: no points, no confidence (the buffers keep their capacity).
+void clearTrace(MarkerTrace& m) {
+  m.found = false;
+  m.confidence = 0.0f;
+  m.pixels.clear();
+  m.points.clear();
+  m.scores.clear();
+  m.num_valid_points = 0;
+}
+
 }  // namespace
 
 LaneFitter::LaneFitter() { reset(); }
@@ -66,14 +76,7 @@ void LaneFitter::reset() {
 void LaneFitter::fit(const LaneFitInput& in, Result& result) {
   result.plane.valid = false;
   result.plane.support.clear();
-  for (MarkerTrace& m : result.outer) {
-    m.found = false;
-    m.confidence = 0.0f;
-    m.pixels.clear();
-    m.points.clear();
-    m.scores.clear();
-    m.num_valid_points = 0;
-  }
+  for (MarkerTrace& m : result.outer) clearTrace(m);
   if (params_.track_lanes) {
     fitBoundaries(in, result);
   } else {
@@ -292,12 +295,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
   MarkerTrace* sides[2] = {&result.left, &result.right};
   for (int i = 0; i < 2; ++i) {
     MarkerTrace& m = *sides[i];
-    m.found = false;
-    m.confidence = 0.0f;
-    m.pixels.clear();
-    m.points.clear();
-    m.scores.clear();
-    m.num_valid_points = 0;
+    clearTrace(m);
     if (in.counts[i] > 0) {  // the best seed's image measurements, for templates and overlays
       const MarkerTrace& best = (*in.candidates)[i][0].trace;
       m.peak_score = best.peak_score;

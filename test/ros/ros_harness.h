@@ -436,6 +436,19 @@ inline ::testing::AssertionResult accountingHolds(const std::map<std::string, st
   return ::testing::AssertionSuccess();
 }
 
+/// Every processing status received so far keeps the accounting rule.
+inline void expectAccountingInEveryReport() {
+  size_t reports = 0;
+  g->diagnostics.find([&](const diagnostic_msgs::DiagnosticArray& a) {
+    const auto v = processingValues(a);
+    if (v.empty()) return false;
+    ++reports;
+    EXPECT_TRUE(accountingHolds(v));
+    return false;
+  });
+  EXPECT_GT(reports, 0u);
+}
+
 /// Unload the detector through its manager; it leaves the manager's list and its reconfigure
 /// service goes.
 inline ::testing::AssertionResult unloadDetectorFromManager() {

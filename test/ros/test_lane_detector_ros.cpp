@@ -496,15 +496,7 @@ TEST(LaneDetectorRos, EveryInputFrameIsAccountedFor) {
   EXPECT_EQ(delta("Frames processed"), 4);
   EXPECT_EQ(delta("Frames skipped (no subscriber)"), 0);
   // the rule holds at every diagnostics update, not only at the end
-  size_t reports = 0;
-  g->diagnostics.find([&](const diagnostic_msgs::DiagnosticArray& a) {
-    const auto v = processingValues(a);
-    if (v.empty()) return false;
-    ++reports;
-    EXPECT_TRUE(accountingHolds(v));
-    return false;
-  });
-  EXPECT_GT(reports, 0u);
+  expectAccountingInEveryReport();
   for (const auto& kv : end)
     std::printf("  [accounting] %s: %s\n", kv.first.c_str(), kv.second.c_str());
 }

@@ -89,19 +89,6 @@ std::map<std::string, std::string> latestProcessing() {
   return last;
 }
 
-/// Every processing status received so far keeps the accounting rule.
-void expectAccountingInEveryReport() {
-  size_t reports = 0;
-  g->diagnostics.find([&](const diagnostic_msgs::DiagnosticArray& a) {
-    const auto v = processingValues(a);
-    if (v.empty()) return false;
-    ++reports;
-    EXPECT_TRUE(accountingHolds(v));
-    return false;
-  });
-  EXPECT_GT(reports, 0u);
-}
-
 /// A valid plane answers a frame published at or after @p t (frames published meanwhile).
 ::testing::AssertionResult validPlaneFrom(Outputs& out, const ros::Time& t,
                                           const InputSet* in = nullptr) {
