@@ -107,6 +107,7 @@ class LaneFitter {
   std::array<float, 2> kind_score_{{0.f, 0.f}};  ///< > 0 paint, < 0 road edge (decaying vote)
   std::array<float, 2> evidence_margin_{{0.f, 0.f}};  ///< classifier margin, smoothed
   std::array<int, 2> disagree_{{0, 0}};        ///< frames a nearer line than the track was seen
+  std::array<int, 2> edge_turns_{{0, 0}};      ///< consecutive frames the road edge turned away
   std::array<double, 2> disagree_offset_{{0.0, 0.0}};  ///< where it was last seen
   std::vector<Eigen::Vector3f> fit_points_;
   std::vector<Eigen::Vector3f> samples_;

@@ -98,7 +98,7 @@ struct Params {
   bool classify_boundaries = false;  ///< classify each line as paint, road edge or no boundary
   double paint_contrast = 0.25;   ///< paint is this much brighter than the road beside it (relative)
   double paint_width_min = 0.07;  ///< narrower bright lines are not paint (rail heads) (m)
-  double paint_width_max = 0.45;  ///< wider bright bands are not lane lines (zebra, arrows) (m)
+  double paint_width_max = 0.35;  ///< wider bright bands are not lane lines (zebra stripes 0.4-0.6 m, arrows) (m)
   double kerb_height = 0.05;      ///< a raised surface beyond a line by this much makes it a road edge (m)
   double edge_chroma = 0.03;      ///< rg-chromaticity change across an unpainted road edge
   double boundary_offset_min = 0.15;  ///< a boundary is at least this far beside the camera (m)

@@ -25,6 +25,7 @@ constexpr int kMaxEdgeSamples = 40;     // at most,
 constexpr double kEdgeLineInlier = 0.15; // m: a road edge's points this near its line are its own
 constexpr double kEdgeTurn = 0.03;      // rad: ... when it turns away from the lane model by more
 constexpr double kMinEdgeLength = 2.0;  // m of its own points (a shorter edge: the lane model's)
+constexpr int kEdgeTurnFrames = 2;      // consecutive frames a tracked edge must turn away
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
 constexpr double kCrossProbe = 3.0;      // m ahead where a marker's side of the vehicle is told
 constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
@@ -71,6 +72,7 @@ void LaneFitter::reset() {
   kind_score_ = {0.f, 0.f};
   evidence_margin_ = {0.f, 0.f};
   disagree_ = {0, 0};
+  edge_turns_ = {0, 0};
 }
 
 void LaneFitter::fit(const LaneFitInput& in, Result& result) {
@@ -334,6 +336,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     evidence_margin_[1 - i] = evidence_margin_[i];
     kind_score_[i] = evidence_margin_[i] = 0.f;
     disagree_ = {0, 0};
+    edge_turns_ = {0, 0};
     chosen[1 - i] = chosen[i] >= 0 ? -1 : chosen[1 - i];  // this frame's choice was for the old side
     chosen[i] = -1;
     break;
@@ -366,9 +369,15 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     }
     // reported: the side's model over its evidence's range, within the plane's range; a road
     // edge seen this frame as its own straight line (a kerb need not run parallel to the paint)
+    // (a tracked edge only when the turn persists: one frame's stray points are no turn)
     samples_.clear();
-    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0)
+    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0) {
       edgeLine(i, (*in.candidates)[i][chosen[i]].road, frame, tp.sample_step, samples_);
+      edge_turns_[i] = samples_.empty() ? 0 : edge_turns_[i] + 1;
+      if (tracker_.frames(i) > 1 && edge_turns_[i] < kEdgeTurnFrames) samples_.clear();
+    } else {
+      edge_turns_[i] = 0;
+    }
     if (samples_.empty()) tracker_.sample(i, frame, tp.sample_step, samples_);
     for (const auto& q : samples_) {
       if (!(q.z() > 0.1f)) continue;
