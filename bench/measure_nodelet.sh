@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # What the nodelet adds over detect(), and its peak memory: plays a generated sequence into
-# LaneDetectorNodelet (own manager, config/default.yaml = paper mode) with lane_plane and
+# LaneDetectorNodelet (own manager, lane_detector.launch: config/improved.yaml) with lane_plane and
 # lane_markings subscribed, reads the nodelet's own diagnostics ("Mean detector time",
 # "Mean ROS overhead" = callback time minus detect()) and the manager's peak RSS (VmHWM).
 # Run with the workspace sourced. Usage: bench/measure_nodelet.sh [WIDTH HEIGHT [FRAMES]]

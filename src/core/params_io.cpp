@@ -31,110 +31,34 @@ bool toInt(double v, int& out) {
   return true;
 }
 
+// Field of any type: numbers as doubles, booleans as 0/1, enums as their integer value.
 template <typename T>
-Field member(T Params::*m) {
+Field field(T Params::*m) {
   return {[m](Params& p, double v) {
-            if constexpr (std::is_integral_v<T>) {
+            if constexpr (std::is_same_v<T, bool>) {
+              p.*m = v != 0.0;
+            } else if constexpr (std::is_enum_v<T> || std::is_integral_v<T>) {
               int i = 0;
               if (toInt(v, i)) p.*m = static_cast<T>(i);
             } else {
               p.*m = static_cast<T>(v);
             }
           },
-          [m](const Params& p) { return static_cast<double>(p.*m); }};
+          [m](const Params& p) {
+            if constexpr (std::is_enum_v<T>) return static_cast<double>(static_cast<int>(p.*m));
+            else return static_cast<double>(p.*m);
+          }};
 }
-
-Field boolean(bool Params::*m) {
-  return {[m](Params& p, double v) { p.*m = v != 0.0; },
-          [m](const Params& p) { return p.*m ? 1.0 : 0.0; }};
-}
-
-template <typename E>
-Field enumeration(E Params::*m) {
-  return {[m](Params& p, double v) {
-            int i = 0;
-            if (toInt(v, i)) p.*m = static_cast<E>(i);
-          },
-          [m](const Params& p) { return static_cast<double>(static_cast<int>(p.*m)); }};
-}
-
-#define RLD_FIELD(kind, name) {#name, kind(&Params::name)}
 
 const std::vector<std::pair<std::string, Field>>& fields() {
   static const std::vector<std::pair<std::string, Field>> table = {
-      RLD_FIELD(member, tau_c),
-      RLD_FIELD(boolean, adaptive_tau_c),
-      RLD_FIELD(member, tau_c_offset),
-      RLD_FIELD(member, processing_scale),
-      RLD_FIELD(member, roi_top),
-      RLD_FIELD(member, roi_bottom),
-      RLD_FIELD(member, min_depth),
-      RLD_FIELD(member, max_depth),
-      RLD_FIELD(member, normal_window),
-      RLD_FIELD(member, template_size),
-      RLD_FIELD(member, template_line_width),
-      RLD_FIELD(member, template_angle_deg),
-      RLD_FIELD(boolean, use_depth),
-      RLD_FIELD(member, depth_threshold),
-      RLD_FIELD(member, alpha),
-      RLD_FIELD(member, beta),
-      RLD_FIELD(enumeration, depth_term),
-      RLD_FIELD(member, tau_g),
-      RLD_FIELD(member, up_x),
-      RLD_FIELD(member, up_y),
-      RLD_FIELD(member, up_z),
-      RLD_FIELD(member, pca_threshold),
-      RLD_FIELD(boolean, adapt_templates),
-      RLD_FIELD(member, jump_step),
-      RLD_FIELD(member, trace_threshold),
-      RLD_FIELD(member, max_trace_steps),
-      RLD_FIELD(member, min_marker_points),
-      RLD_FIELD(enumeration, plane_fit),
-      RLD_FIELD(member, road_fit_range),
-      RLD_FIELD(member, road_inlier_distance),
-      RLD_FIELD(member, road_noise_growth),
-      RLD_FIELD(member, plane_max_tilt_deg),
-      RLD_FIELD(member, plane_distance_min),
-      RLD_FIELD(member, plane_distance_max),
-      RLD_FIELD(member, gap_steps),
-      RLD_FIELD(member, marker_angle_min_deg),
-      RLD_FIELD(member, marker_angle_max_deg),
-      RLD_FIELD(boolean, ego_lane_seeds),
-      RLD_FIELD(boolean, road_gate),
-      RLD_FIELD(member, road_gate_cos),
-      RLD_FIELD(member, plane_gate),
-      RLD_FIELD(member, fill_depth_holes),
-      RLD_FIELD(member, plane_smoothing),
-      RLD_FIELD(boolean, snap_to_plane),
-      RLD_FIELD(member, lane_width_min),
-      RLD_FIELD(member, lane_width_max),
-      RLD_FIELD(boolean, report_only_complete),
-      RLD_FIELD(boolean, track_lanes),
-      RLD_FIELD(member, track_memory),
-      RLD_FIELD(member, track_max_age),
-      RLD_FIELD(member, track_gate),
-      RLD_FIELD(member, track_seed_band),
-      RLD_FIELD(member, boundary_candidates),
-      RLD_FIELD(member, acquisition_angle_deg),
-      RLD_FIELD(boolean, adapt_per_side),
-      RLD_FIELD(boolean, classify_boundaries),
-      RLD_FIELD(member, paint_contrast),
-      RLD_FIELD(member, paint_width_min),
-      RLD_FIELD(member, paint_width_max),
-      RLD_FIELD(member, kerb_height),
-      RLD_FIELD(member, edge_chroma),
-      RLD_FIELD(member, boundary_offset_min),
-      RLD_FIELD(member, boundary_offset_max),
-      RLD_FIELD(boolean, lane_model),
-      RLD_FIELD(member, model_gate),
-      RLD_FIELD(member, model_lost_frames),
-      RLD_FIELD(member, dashed_coverage),
-      RLD_FIELD(member, yellow_threshold),
+#define RLD_PARAM(group, type, name, improved, paper, min, max, level, description) \
+  {#name, field(&Params::name)},
+#include "rgbd_lane_detector/params.def"
+#undef RLD_PARAM
   };
   return table;
 }
-
-#undef RLD_FIELD
 
 const Field* find(const std::string& name) {
   for (const auto& f : fields())
@@ -229,11 +153,7 @@ bool parseParamsYaml(std::istream& in, const std::string& path, Params& p, std::
     const std::string text = trim(line.substr(colon + 1));
     if (key.empty() || text.empty()) continue;
     if (key == "mode") {
-      if (text == "paper") {
-        out = Params::paper();
-      } else if (text == "improved") {
-        out = Params::improved();
-      } else {
+      if (!paramsForMode(text, out)) {
         if (error) *error = path + ":" + std::to_string(line_no) + ": unknown mode '" + text + "'";
         return false;
       }

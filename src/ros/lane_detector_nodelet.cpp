@@ -223,19 +223,21 @@ bool LaneDetectorNodelet::acceptInput(size_t input, const ros::Time& stamp) {
 }
 
 void LaneDetectorNodelet::readInitialConfig(ros::NodeHandle& pnh) {
-  // `mode` (paper | improved) gives the initial value of every parameter that is not set
-  // explicitly; explicit private parameters win (as in loadParamsYaml: preset, then keys).
+  // `mode` (improved, the default, | paper) gives the initial value of every parameter that is
+  // not set explicitly; explicit private parameters win (as in loadParamsYaml: preset, then keys).
   std::string mode;
-  pnh.param<std::string>("mode", mode, "");
-  if (mode.empty()) return;
-  if (mode != "paper" && mode != "improved") {
-    NODELET_ERROR("Unknown mode '%s' (expected paper or improved): ignored", mode.c_str());
-    return;
+  pnh.param<std::string>("mode", mode, "improved");
+  Params preset_params, other_params;
+  if (!paramsForMode(mode, preset_params)) {
+    NODELET_ERROR("Unknown mode '%s' (expected improved or paper): improved", mode.c_str());
+    mode = "improved";
+    preset_params = Params::improved();
   }
+  paramsForMode(mode == "improved" ? "paper" : "improved", other_params);
   LaneDetectorConfig preset = LaneDetectorConfig::__getDefault__();
   LaneDetectorConfig other = preset;
-  conv::paramsToConfig(mode == "improved" ? Params::improved() : Params::paper(), preset);
-  conv::paramsToConfig(mode == "improved" ? Params::paper() : Params::improved(), other);
+  conv::paramsToConfig(preset_params, preset);
+  conv::paramsToConfig(other_params, other);
   std::string overridden;
   for (const auto& param : LaneDetectorConfig::__getParamDescriptions__()) {
     if (!pnh.hasParam(param->name)) {

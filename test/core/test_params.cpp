@@ -2,6 +2,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -17,30 +18,36 @@
 namespace rgbd_lane_detector {
 namespace {
 
-std::set<std::string> cfgNames() {
-  std::ifstream in(std::string(RLD_SOURCE_DIR) + "/cfg/LaneDetector.cfg");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
-  std::set<std::string> names;
-  const std::regex re(R"(\.add\(name=\"([a-z_0-9]+)\")");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
-       ++it)
-    names.insert((*it)[1]);
-  return names;
+// The entries of params.def (the table the .cfg reads): name -> group.
+std::map<std::string, std::string> tableEntries() {
+  std::ifstream in(std::string(RLD_SOURCE_DIR) + "/include/rgbd_lane_detector/params.def");
+  std::map<std::string, std::string> entries;
+  const std::regex re(R"(^RLD_PARAM\((\w+), \w+, (\w+), )");
+  std::string line;
+  std::smatch m;
+  while (std::getline(in, line))
+    if (std::regex_search(line, m, re)) entries[m[2]] = m[1];
+  return entries;
 }
 
 TEST(Params, EveryFieldIsADynamicReconfigureParameter) {
-  const std::set<std::string> cfg = cfgNames();
-  ASSERT_GT(cfg.size(), 20u);
+  const std::map<std::string, std::string> table = tableEntries();
+  ASSERT_GT(table.size(), 20u);
+  std::set<std::string> reconfigurable;
+  for (const auto& [name, group] : table)
+    if (group != "none") reconfigurable.insert(name);
   std::set<std::string> fields(paramNames().begin(), paramNames().end());
+  EXPECT_EQ(fields.size(), table.size());
   // the up axis comes from the camera or tf, not from the reconfigure GUI
-  for (const char* n : {"up_x", "up_y", "up_z"}) EXPECT_EQ(fields.erase(n), 1u);
-  EXPECT_EQ(cfg, fields);
+  for (const char* n : {"up_x", "up_y", "up_z"}) {
+    EXPECT_EQ(fields.erase(n), 1u);
+    EXPECT_EQ(table.at(n), "none");
+  }
+  EXPECT_EQ(reconfigurable, fields);
   for (const char* n : {"tau_c", "template_size", "template_line_width", "normal_window",
                         "depth_threshold", "alpha", "beta", "tau_g", "pca_threshold",
                         "jump_step", "roi_top", "processing_scale", "depth_term", "use_depth"})
-    EXPECT_TRUE(cfg.count(n)) << n;  // the names INTERFACE.md promises
+    EXPECT_TRUE(reconfigurable.count(n)) << n;  // the names INTERFACE.md promises
 }
 
 TEST(Params, SetAndGetRoundTripForEveryName) {
@@ -60,8 +67,21 @@ TEST(Params, SetAndGetRoundTripForEveryName) {
   EXPECT_FALSE(getParam(p, "no_such_parameter", v));
 }
 
-TEST(Params, DefaultsAreThePapersValues) {
-  const Params p;
+// Params{} is the improved preset; Params::paper() keeps the paper's values (METHOD.md).
+TEST(Params, DefaultsAreTheImprovedPresetAndPaperIsThePapers) {
+  const Params d;
+  EXPECT_EQ(d.plane_fit, PlaneFit::kRoadSurface);
+  EXPECT_EQ(d.gap_steps, 12);
+  EXPECT_TRUE(d.lane_model);
+  EXPECT_TRUE(d.classify_boundaries);
+  EXPECT_EQ(d.boundary_candidates, 3);
+  EXPECT_FALSE(d.report_only_complete);
+  Params by_name;
+  ASSERT_TRUE(paramsForMode("improved", by_name));
+  EXPECT_EQ(by_name.plane_fit, d.plane_fit);
+  EXPECT_EQ(by_name.acquisition_angle_deg, d.acquisition_angle_deg);
+
+  const Params p = Params::paper();
   EXPECT_EQ(p.template_size, 32);
   EXPECT_EQ(p.normal_window, 5);
   EXPECT_DOUBLE_EQ(p.depth_threshold, 20.0);
@@ -71,9 +91,17 @@ TEST(Params, DefaultsAreThePapersValues) {
   EXPECT_EQ(p.jump_step, 5);
   EXPECT_DOUBLE_EQ(p.pca_threshold, 0.75);
   EXPECT_EQ(p.tau_c, 100);
+  EXPECT_FALSE(p.adaptive_tau_c);
   EXPECT_EQ(p.template_line_width, 10);
   EXPECT_EQ(p.plane_fit, PlaneFit::kThreePoint);
   EXPECT_EQ(p.gap_steps, 0);
+  EXPECT_EQ(p.boundary_candidates, 1);
+  EXPECT_FALSE(p.track_lanes);
+  EXPECT_FALSE(p.lane_model);
+  ASSERT_TRUE(paramsForMode("paper", by_name));
+  EXPECT_EQ(by_name.plane_fit, PlaneFit::kThreePoint);
+  EXPECT_FALSE(paramsForMode("fast", by_name));
+  EXPECT_EQ(by_name.plane_fit, PlaneFit::kThreePoint) << "an unknown mode changes nothing";
 }
 
 TEST(Params, SanitiseRepairsOutOfRangeValues) {

@@ -283,15 +283,18 @@ TEST(Conversions, ConfigParamsRoundTripCoversEveryField) {
     EXPECT_NE(b.ints[i].value, def_msg.ints[i].value) << a.ints[i].name << " was not changed";
 }
 
-TEST(Conversions, ConfigDefaultsArePaperParamsAndEnumsMap) {
+// params.def is the one source of the defaults: the .cfg's defaults are Params{} (improved).
+TEST(Conversions, ConfigDefaultsAreTheDefaultParamsAndEnumsMap) {
   Params p;
   conv::configToParams(LaneDetectorConfig::__getDefault__(), p);
-  LaneDetectorConfig from_paper = LaneDetectorConfig::__getDefault__();
-  conv::paramsToConfig(Params::paper(), from_paper);
+  LaneDetectorConfig from_defaults = LaneDetectorConfig::__getDefault__();
+  conv::paramsToConfig(Params(), from_defaults);
   dynamic_reconfigure::Config a, b;
   LaneDetectorConfig::__getDefault__().__toMessage__(a);
-  from_paper.__toMessage__(b);
-  EXPECT_TRUE(a == b) << "cfg defaults differ from Params::paper()";
+  from_defaults.__toMessage__(b);
+  EXPECT_TRUE(a == b) << "cfg defaults differ from Params{}";
+  EXPECT_EQ(LaneDetectorConfig::__getDefault__().plane_fit, static_cast<int>(PlaneFit::kRoadSurface));
+  EXPECT_TRUE(LaneDetectorConfig::__getDefault__().lane_model);
 
   LaneDetectorConfig c = LaneDetectorConfig::__getDefault__();
   c.depth_term = 1;
@@ -304,6 +307,42 @@ TEST(Conversions, ConfigDefaultsArePaperParamsAndEnumsMap) {
   conv::configToParams(c, p);
   EXPECT_EQ(p.depth_term, DepthTerm::kNearHigh);
   EXPECT_EQ(p.plane_fit, PlaneFit::kThreePoint);
+}
+
+// The .cfg's ranges are sanitize()'s (both from params.def): every field at the .cfg's max (or
+// min) is valid as it is, and every number beyond it is clamped back to exactly that value.
+TEST(Conversions, ConfigRangesAreTheSanitizeRanges) {
+  for (const bool upper : {true, false}) {
+    const LaneDetectorConfig& bound = upper ? LaneDetectorConfig::__getMax__() : LaneDetectorConfig::__getMin__();
+    dynamic_reconfigure::Config at, beyond;
+    bound.__toMessage__(at);
+    beyond = at;
+    for (auto& i : beyond.ints) i.value += upper ? 1 : -1;
+    for (auto& d : beyond.doubles) d.value += (upper ? 1.0 : -1.0) * (1.0 + std::fabs(d.value));
+    for (const auto* msg : {&at, &beyond}) {
+      LaneDetectorConfig config = LaneDetectorConfig::__getDefault__();
+      ASSERT_TRUE(config.__fromMessage__(*const_cast<dynamic_reconfigure::Config*>(msg)));
+      Params p;
+      conv::configToParams(config, p);
+      LaneDetectorConfig back = LaneDetectorConfig::__getDefault__();
+      conv::paramsToConfig(sanitize(p), back);
+      dynamic_reconfigure::Config b;
+      back.__toMessage__(b);
+      ASSERT_EQ(b.ints.size(), at.ints.size());
+      ASSERT_EQ(b.doubles.size(), at.doubles.size());
+      const char* what = msg == &at ? (upper ? "at max" : "at min") : (upper ? "above max" : "below min");
+      dynamic_reconfigure::Config defaults;
+      LaneDetectorConfig::__getDefault__().__toMessage__(defaults);
+      for (size_t k = 0; k < at.ints.size(); ++k) {
+        // an enum beyond its values is no value of it: the default
+        const bool enumeration = at.ints[k].name == "depth_term" || at.ints[k].name == "plane_fit";
+        const int expected = enumeration && msg == &beyond ? defaults.ints[k].value : at.ints[k].value;
+        EXPECT_EQ(b.ints[k].value, expected) << at.ints[k].name << " " << what;
+      }
+      for (size_t k = 0; k < at.doubles.size(); ++k)
+        EXPECT_DOUBLE_EQ(b.doubles[k].value, at.doubles[k].value) << at.doubles[k].name << " " << what;
+    }
+  }
 }
 
 Eigen::Isometry3d someTransform() {

@@ -53,6 +53,28 @@ TEST(LaneDetectorRos, DefaultYamlCoversEveryParameter) {
   }
 }
 
+// Without a mode (a bare `rosrun rgbd_lane_detector lane_detector_node`) the detector runs the
+// improved preset, like with `mode: improved`: its parameters on the server are Params{}'s.
+TEST(LaneDetectorRos, RunsTheImprovedPresetByDefault) {
+  g->prepare();
+  std::string mode = "(unset)";
+  ros::param::get(g->detector + "/mode", mode);
+  if (mode == "paper") GTEST_SKIP() << "this detector was started with mode: paper";
+  const Params improved;
+  int plane_fit = -1, gap_steps = -1, candidates = -1;
+  bool lane_model = false, classify = false;
+  ASSERT_TRUE(waitFor([&] { return ros::param::get(g->detector + "/plane_fit", plane_fit); }));
+  EXPECT_EQ(plane_fit, static_cast<int>(improved.plane_fit)) << "mode " << mode;
+  ASSERT_TRUE(ros::param::get(g->detector + "/gap_steps", gap_steps));
+  EXPECT_EQ(gap_steps, improved.gap_steps) << "mode " << mode;
+  ASSERT_TRUE(ros::param::get(g->detector + "/boundary_candidates", candidates));
+  EXPECT_EQ(candidates, improved.boundary_candidates) << "mode " << mode;
+  ASSERT_TRUE(ros::param::get(g->detector + "/lane_model", lane_model));
+  EXPECT_TRUE(lane_model) << "mode " << mode;
+  ASSERT_TRUE(ros::param::get(g->detector + "/classify_boundaries", classify));
+  EXPECT_TRUE(classify) << "mode " << mode;
+}
+
 TEST(LaneDetectorRos, LazySubscription) {
   g->prepare();
   // the detector is up (outputs advertised) but nobody listens: no input subscriptions
@@ -170,7 +192,7 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
     model_lines += m.action == visualization_msgs::Marker::ADD;
   }
   std::string mode;
-  ros::param::param<std::string>(g->detector + "/mode", mode, "paper");
+  ros::param::param<std::string>(g->detector + "/mode", mode, "improved");
   if (mode == "improved") EXPECT_GE(model_lines, 2) << "the ego lane's two boundaries";
   else EXPECT_EQ(model_lines, 0) << "paper mode tracks no lane model";
   EXPECT_EQ(markers->markers[0].type, visualization_msgs::Marker::TRIANGLE_LIST);

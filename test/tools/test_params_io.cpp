@@ -1,4 +1,4 @@
-// Detector parameter files (ROS-style YAML without a directive) and modes.
+// Detector parameter files (ROS-style YAML without a directive).
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -9,16 +9,6 @@
 namespace rgbd_lane_detector {
 namespace tools {
 namespace {
-
-TEST(ParamsIo, Modes) {
-  Params p;
-  ASSERT_TRUE(paramsForMode("improved", p));
-  EXPECT_EQ(p.plane_fit, Params::improved().plane_fit);
-  EXPECT_EQ(p.gap_steps, Params::improved().gap_steps);
-  ASSERT_TRUE(paramsForMode("paper", p));
-  EXPECT_EQ(p.gap_steps, Params::paper().gap_steps);
-  EXPECT_FALSE(paramsForMode("fast", p));
-}
 
 TEST(ParamsIo, YamlOverridesWithCommentsBoolsAndEnums) {
   const std::string path = writeTempFile("rgbd_params.yaml",

@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
     const bool colour = m.size() > 7 && m.compare(m.size() - 7, 7, "-colour") == 0;
     const std::string base = colour ? m.substr(0, m.size() - 7) : m;
     std::string error;
-    if (!tools::paramsForMode(base, mode.params)) {
+    if (!paramsForMode(base, mode.params)) {
       std::cerr << "evaluate_sequences: unknown mode '" << m << "'\n";
       return 2;
     }

@@ -21,17 +21,6 @@ bool isParamName(const std::string& key) {
 
 }  // namespace
 
-bool paramsForMode(const std::string& mode, Params& params) {
-  if (mode == "paper") {
-    params = Params::paper();
-  } else if (mode == "improved") {
-    params = Params::improved();
-  } else {
-    return false;
-  }
-  return true;
-}
-
 bool setParam(Params& params, const std::string& key, const std::string& value,
               std::string& error) {
   return setParamText(params, key, value, &error);

@@ -19,9 +19,6 @@
 namespace rgbd_lane_detector {
 namespace tools {
 
-/// Names of the detector modes: "paper" (Params::paper()) and "improved" (Params::improved()).
-bool paramsForMode(const std::string& mode, Params& params);
-
 /**
  * @brief Set one parameter from text.
  * @return false with @p error for an unknown key or a bad value.
