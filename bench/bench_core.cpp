@@ -31,7 +31,7 @@ constexpr int kFrames = 8;
 struct Data {
   int width = 0, height = 0;
   std::vector<RoadFrame> frames;
-  Params params;
+  Params params = Params::paper();  ///< the paper mode, the OpenCV pipeline's configuration
   LineTemplate left, right;  ///< templates detect() uses after warm-up (adapted angles)
   cv::Rect roi;
 };

@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   cv::setNumThreads(1);
   std::vector<bench::RoadFrame> frames(4);
   for (int i = 0; i < 4; ++i) bench::renderRoadFrame(width, width * 380 / 640, i, frames[i]);
-  const Params params;
+  const Params params = Params::paper();
   LaneDetector det(params);
   Result r;
   for (auto& f : frames) det.detect(f.frame(), r);  // steady-state templates

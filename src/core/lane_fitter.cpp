@@ -27,7 +27,7 @@ constexpr double kEdgeTurn = 0.03;      // rad: ... when it turns away from the 
 constexpr double kMinEdgeLength = 2.0;  // m of its own points (a shorter edge: the lane model's)
 constexpr int kEdgeTurnFrames = 2;      // consecutive frames a tracked edge must turn away
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
-constexpr double kCrossProbe = 3.0;      // m ahead where a marker's side of the vehicle is told
+constexpr double kCrossProbe = 1.5;      // m ahead where a marker's side of the vehicle is told
 constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
 
 // Robust straight line lateral = a + b forward through road points: least squares, then twice
