@@ -53,6 +53,10 @@ struct BoundaryEvidence {
 struct ClassifierInput {
   const cv::Mat* colour = nullptr;     ///< input colour image
   PixelFormat format = PixelFormat::kBgr8;
+  /// CV_8UC1 grey of the input image (greyValue() weights), valid in the rows @c grey_rows; the
+  /// classifier measures nothing on other rows
+  const cv::Mat* grey = nullptr;
+  cv::Range grey_rows;
   Intrinsics K;                        ///< of the input image
   const cv::Mat* points = nullptr;     ///< CV_32FC3 organised points at the processing scale
   double scale_x = 1.0, scale_y = 1.0; ///< processing / input resolution
@@ -102,18 +106,24 @@ class BoundaryClassifier {
                  double max_range, double reach = 0.15);
 
   /**
-   * @brief Put a road edge where the road surface ends: on each row of the line, scanning from
-   * the road well inside the line outward, the first pixel that is no longer road (brighter by
-   * the paint contrast, or of another colour by edge_chroma; darker alone is a shadow, not an
-   * edge) and stays so. A kerb is traced on its bright top; its edge is the bottom of its face.
+   * @brief Follow a road edge row by row (kerb, unpainted asphalt edge) as followLine() follows
+   * paint: on every image row, scanning outward from the road well inside the edge's predicted
+   * column, the first stretch of 12 cm that is mostly not road (brighter by the paint contrast,
+   * or of another colour by edge_chroma; darker alone is a shadow, not an edge). A kerb is
+   * traced on its bright top; its edge is the bottom of its face, where the road ends.
    * @param[in] in frame views.
-   * @param[in,out] pixels the line's points (input pixels), moved onto the edge where found.
-   * @param[out] points their depth points (optical frame, NaN where none).
-   * @param[in] left side of the vehicle the line is on.
+   * @param[in,out] pixels traced centroids (input pixels), near to far; replaced by the rows
+   *                found (unchanged when fewer than 3 rows are found).
+   * @param[out] points their depth points (optical frame, NaN where no depth).
+   * @param[in] left side of the vehicle the edge is on (its outer side is to the left).
    * @param[in] p thresholds (paint_contrast, edge_chroma).
+   * @param[in] max_gap longest stretch without the edge that is crossed (m).
+   * @param[in] max_range farthest road distance followed (m).
+   * @return rows found.
    */
-  void locateEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                  std::vector<Eigen::Vector3f>& points, bool left, const Params& p);
+  int followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                 std::vector<Eigen::Vector3f>& points, bool left, const Params& p, double max_gap,
+                 double max_range);
 
   /**
    * @brief Paint along a reported boundary: the share of its length with paint on it (a solid
@@ -131,10 +141,6 @@ class BoundaryClassifier {
                     const Params& p, float& coverage, float& yellowness);
 
  private:
-  /// Colour of an input pixel (0-255 floats).
-  void rgb(const ClassifierInput& in, int u, int v, float& R, float& G, float& B) const;
-  /// Grey value (BT.601 luma) and rg chromaticity of an input pixel.
-  void sample(const ClassifierInput& in, int u, int v, float& grey, float& r, float& g) const;
   /// Height above the road of the depth at an input pixel (NaN without depth).
   float heightAt(const ClassifierInput& in, int u, int v) const;
   /// Depth point (optical frame) at an input pixel, NaN without depth.
@@ -164,6 +170,16 @@ class BoundaryClassifier {
     const Band* narrow = nullptr;  ///< nearest narrower band
     const Band* wide = nullptr;    ///< nearest wider band
   };
+  /// The row walk of followLine() and followEdge(): @p find(v, u, ppm, from_trace, column) seeks
+  /// the boundary on row v near column u (ppm pixels per metre across the road; u predicted from
+  /// the trace, or from the rows found).
+  template <typename FindInRow>
+  int followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                 std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
+                 FindInRow&& find);
+  /// Where the road ends on row @p v, scanning outward from @p inside metres inside column @p u.
+  bool edgeInRow(const ClassifierInput& in, int v, double u, double ppm, bool left,
+                 const Params& p, double inside, double& edge);
   /// Profile of the row through @p c across the line (profile_, bands_); false: not measurable.
   bool measureRow(const ClassifierInput& in, const cv::Point2f& c, bool left, const Params& p,
                   double cos_heading, RowMeasure& m);
@@ -177,9 +193,10 @@ class BoundaryClassifier {
   std::vector<float> profile_;
   std::vector<Band> bands_;
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
+  std::vector<float> yellow_;  ///< measurePaint(): yellowness of each painted row
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
-  std::vector<unsigned char> other_;  ///< locateEdge(): pixels of a row that are not road
+  std::vector<unsigned char> other_;  ///< edgeInRow(): pixels of a row that are not road
   std::vector<double> follow_f_;       ///< forward distance (m) of each row found in one direction
 };
 

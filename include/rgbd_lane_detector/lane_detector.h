@@ -91,9 +91,14 @@ class LaneDetector {
   /// @p R off the lines already traced, appended to candidates_[side].
   void findCandidates(int side, cv::Mat& R);
   void classifyCandidates(const Frame& frame);
+  /// The classifier's view of this frame on @p plane (classifier_input_).
+  const ClassifierInput& classifierInput(const Frame& frame, const PlaneEstimate& plane);
   /// A tracked painted side is also sought where its model predicts it, row by row: the
   /// template's seeds can miss a line whose image angle changes fast (a lane change).
   void followPredictedLines();
+  /// A candidate of @p side classified as paint lies on the side's predicted line (in @p frame,
+  /// the road plane's coordinates).
+  bool paintOnPredictedLine(int side, const PlaneFrame& frame) const;
   /// Paint coverage (dashed / solid) and colour of every reported painted boundary.
   void measurePaint(const Frame& frame, Result& result);
   /// lane_model: the Kalman filter of the lane in the vehicle frame.
@@ -141,6 +146,9 @@ class LaneDetector {
 
   // per-frame buffers (allocated on size change only)
   cv::Mat colour_small_;
+  cv::Mat grey_;        ///< grey of the searched rows at the processing scale (improved mode)
+  cv::Mat grey_input_;  ///< grey of the input image's searched rows when it is resampled
+  cv::Range grey_input_rows_;  ///< rows of the input image that the classifier's grey covers
   cv::Mat half_binary_;
   cv::Mat points_;
   cv::Mat geometric_;

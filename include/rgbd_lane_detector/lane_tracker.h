@@ -1,15 +1,17 @@
 /**
  * @file lane_tracker.h
- * @brief Temporal filtering of the lane markers in the road plane (an improvement over the
+ * @brief Temporal filtering of the lane boundaries in the road plane (an improvement over the
  * paper, named option `track_lanes`).
  *
  * A dashed marker often shows no paint near the car, or a single far dash that yields a few
- * traced points: frame by frame the side is then lost. The two markers of the ego lane are
- * modelled in the road plane as parallel curves, lateral_i(f) = a_i + b f + c f^2 over the
- * forward distance f (own offset a_i, shared shape b, c), estimated by recursive least squares
- * with exponential forgetting from the traced points of the recent frames. The shared shape lets
- * a side with little evidence (one short dash) follow the other; the model bridges dash gaps and
- * short occlusions, and a side is dropped after a number of frames without evidence.
+ * traced points: frame by frame the side is then lost. The two boundaries of the ego lane are
+ * modelled in the road plane as curves lateral_i(f) = a_i + b_i f + c_i f^2 over the forward
+ * distance f, estimated by recursive least squares with exponential forgetting from the traced
+ * points of the recent frames. The two sides' shapes (b_i, c_i) are tied by a soft prior that
+ * they are parallel: a side with little evidence (one short dash) takes its shape from the
+ * other, while two well-seen sides keep their own (a kerb that leaves the lane before an
+ * intersection, a lane that widens). The model bridges dash gaps and short occlusions, and a
+ * side is dropped after a number of frames without evidence.
  */
 #pragma once
 
@@ -90,16 +92,24 @@ class LaneTracker {
   void update(const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& left,
               const std::vector<Eigen::Vector3f>& right, const TrackerParams& params);
 
+  /// sample()'s @p beyond for a painted line (m): it continues past where it was seen.
+  static constexpr double kPaintExtrapolation = 4.0;
+  /// sample()'s @p beyond for a road edge (m): kerbs end at driveways and intersections.
+  static constexpr double kEdgeExtrapolation = 2.0;
+
   /**
    * @brief Points of a side over the forward range of the lane's recent evidence (both sides: a
-   * dashed boundary is a boundary along the whole observed lane), spaced uniformly in 1/f (about
-   * uniformly in image rows, like traced centroids).
+   * dashed boundary is a boundary along the whole observed lane), but at most @p beyond metres
+   * past the side's own evidence at either end, spaced uniformly in 1/f (about uniformly in
+   * image rows, like traced centroids). Nothing when that range is shorter than 2 m.
    * @param[in] i side.
    * @param[in] frame plane frame to express them in.
    * @param[in] step nominal spacing (m).
    * @param[out] out camera-frame points, near to far (cleared first).
+   * @param[in] beyond how far past its own evidence a side is reported (m).
    */
-  void sample(int i, const PlaneFrame& frame, double step, std::vector<Eigen::Vector3f>& out) const;
+  void sample(int i, const PlaneFrame& frame, double step, std::vector<Eigen::Vector3f>& out,
+              double beyond = kPaintExtrapolation) const;
 
  private:
   struct Side {
@@ -112,17 +122,18 @@ class LaneTracker {
     double nearest() const;
     double farthest() const;
   };
-  using Vec4 = Eigen::Matrix<double, 4, 1>;
-  using Mat4 = Eigen::Matrix<double, 4, 4>;
-  static Vec4 basis(int side, double f);
+  /// a_left, a_right, b_left, b_right, c_left, c_right
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  static Vec6 basis(int side, double f);
   void solve();
   void shift(double delta);
   /// Keep the points within @p gate of the robust straight line through them.
   static void trimToLine(std::vector<Eigen::Vector2d>& m, double gate);
 
-  std::array<Mat4, 2> A_;  ///< normal equations of each side's evidence (shared shape terms)
-  std::array<Vec4, 2> b_;
-  Vec4 coef_;  ///< a_left, a_right, b, c
+  std::array<Mat6, 2> A_;  ///< normal equations of each side's evidence
+  std::array<Vec6, 2> b_;
+  Vec6 coef_;  ///< a_left, a_right, b_left, b_right, c_left, c_right
   std::array<Side, 2> sides_;
   std::array<std::vector<Eigen::Vector2d>, 2> measurements_;
   std::vector<double> residuals_;

@@ -35,7 +35,10 @@ struct RoadSurfaceSettings {
   double noise_growth = 0.0015;   ///< the bound grows by at most this times z^2 (depth noise, 1/m);
                                   ///< the fit measures the depth's own growth and uses that
   double max_range = 80.0;      ///< farthest depth looked at for the valid range (m)
-  int target_samples = 4000;    ///< depth samples drawn from the searched rows (grid)
+  int target_samples = 1500;    ///< depth samples drawn from the searched rows (grid)
+  /// Columns of the points whose pixels can lie in the corridor ahead beyond fit_range (from
+  /// the intrinsics); every column when empty.
+  cv::Range far_columns;
 };
 
 /**
@@ -63,6 +66,18 @@ class RoadSurface {
    */
   bool fit(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& settings,
            const PlaneEstimate& previous, PlaneEstimate& plane);
+
+  /// Half width of the corridor ahead of the camera whose samples weigh more (m).
+  static constexpr double kCorridorHalfWidth = 2.5;
+
+  /**
+   * @brief Columns that can show the corridor beyond @p fit_range (for
+   * RoadSurfaceSettings::far_columns).
+   * @param[in] fx,cx focal length and principal point of the points' pixel grid (px).
+   * @param[in] fit_range the fit's range (m).
+   * @return columns [start, end) with a pixel of margin either side.
+   */
+  static cv::Range corridorColumns(double fx, double cx, double fit_range);
 
   /// Distance ahead (m, along the optical axis) up to which the last plane holds.
   double validRange() const { return valid_range_; }
@@ -94,6 +109,7 @@ class RoadSurface {
   std::vector<Sample> near_;  ///< samples within fit_range
   std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
   std::vector<float> ratios_;
+  double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;
   uint32_t rng_ = 1;
   double valid_range_ = 0.0;

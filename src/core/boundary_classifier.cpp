@@ -20,6 +20,7 @@ constexpr double kHeightFar = 0.5;
 constexpr float kObjectHeight = 0.3f;        // a line higher than this above the road is an object
 constexpr float kRidgeShare = 0.5f;          // share of measured rows that must show a band
 constexpr int kMinRows = 3;
+constexpr size_t kMaxMeasuredRows = 48;      // rows a classification measures at most
 constexpr int kMinHeights = 3;
 constexpr float kMinContrast = 10.0f;        // grey levels: below this a band is sensor noise
 constexpr double kBandReach = 0.3;           // m: bands this close to the trace belong to it
@@ -28,6 +29,7 @@ constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at lea
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
 constexpr double kFollowReach = 0.15;        // m: a followed row's band is sought this close
+constexpr double kFollowSpacing = 0.1;       // m of road between followed rows at least
 constexpr double kFollowFit = 4.0;            // m of road behind the last row found that make the line ahead
 constexpr double kEdgeReference[2] = {0.7, 1.0};  // m inside a road edge: the road's look
 constexpr double kEdgeBeyond = 0.3;          // m: an edge is sought up to this far beyond the line
@@ -41,35 +43,52 @@ float median(std::vector<float>& v) {
   return *mid;
 }
 
-}  // namespace
-
-void BoundaryClassifier::rgb(const ClassifierInput& in, int u, int v, float& R, float& G,
-                             float& B) const {
-  const cv::Mat& c = *in.colour;
-  const uint8_t* px = c.ptr<uint8_t>(v) + static_cast<size_t>(u) * c.channels();
-  switch (in.format) {
-    case PixelFormat::kMono8:
-      R = G = B = px[0];
-      break;
-    case PixelFormat::kRgb8:
-    case PixelFormat::kRgba8:
-      R = px[0], G = px[1], B = px[2];
-      break;
-    default:  // bgr8, bgra8
-      B = px[0], G = px[1], R = px[2];
-      break;
+/// One row of the input image: its grey values and its colours, read in place.
+class ImageRow {
+ public:
+  /// Row @p v of @p in; valid() is false outside the grey image's rows.
+  ImageRow(const ClassifierInput& in, int v) {
+    if (v < in.grey_rows.start || v >= in.grey_rows.end || v < 0 || v >= in.grey->rows) return;
+    grey_ = in.grey->ptr<uint8_t>(v);
+    colour_ = in.colour->ptr<uint8_t>(v);
+    cn_ = in.colour->channels();
+    switch (in.format) {
+      case PixelFormat::kMono8:
+        r_ = g_ = b_ = 0;
+        break;
+      case PixelFormat::kRgb8:
+      case PixelFormat::kRgba8:
+        r_ = 0, g_ = 1, b_ = 2;
+        break;
+      default:  // bgr8, bgra8
+        b_ = 0, g_ = 1, r_ = 2;
+        break;
+    }
   }
-}
+  bool valid() const { return grey_ != nullptr; }
+  /// Grey value (BT.601 luma) at column @p u.
+  float grey(int u) const { return grey_[u]; }
+  /// Colour at column @p u (0-255).
+  void rgb(int u, float& R, float& G, float& B) const {
+    const uint8_t* px = colour_ + static_cast<size_t>(u) * cn_;
+    R = px[r_], G = px[g_], B = px[b_];
+  }
+  /// rg chromaticity at column @p u.
+  void chroma(int u, float& r, float& g) const {
+    float R, G, B;
+    rgb(u, R, G, B);
+    const float sum = R + G + B + 1e-3f;
+    r = R / sum;
+    g = G / sum;
+  }
 
-void BoundaryClassifier::sample(const ClassifierInput& in, int u, int v, float& grey, float& r,
-                                float& g) const {
-  float R, G, B;
-  rgb(in, u, v, R, G, B);
-  grey = 0.299f * R + 0.587f * G + 0.114f * B;
-  const float sum = R + G + B + 1e-3f;
-  r = R / sum;
-  g = G / sum;
-}
+ private:
+  const uint8_t* grey_ = nullptr;
+  const uint8_t* colour_ = nullptr;
+  int cn_ = 1, r_ = 0, g_ = 0, b_ = 0;
+};
+
+}  // namespace
 
 float BoundaryClassifier::heightAt(const ClassifierInput& in, int u, int v) const {
   const cv::Mat& P = *in.points;
@@ -169,11 +188,10 @@ bool BoundaryClassifier::measureRow(const ClassifierInput& in, const cv::Point2f
   m.u0 = static_cast<int>(std::lround(c.x));
   m.W = std::min(160, std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * m.ppm))));
   if (m.u0 - m.W < 0 || m.u0 + m.W >= colour.cols) return false;
+  const ImageRow row(in, m.v);
+  if (!row.valid()) return false;
   profile_.resize(2 * m.W + 1);
-  for (int k = -m.W; k <= m.W; ++k) {
-    float r, g;
-    sample(in, m.u0 + k, m.v, profile_[k + m.W], r, g);
-  }
+  for (int k = -m.W; k <= m.W; ++k) profile_[k + m.W] = row.grey(m.u0 + k);
   // backgrounds of both sides, outward from the trace
   m.outer_dir = left ? -1 : 1;  // image direction away from the vehicle
   const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
@@ -183,9 +201,9 @@ bool BoundaryClassifier::measureRow(const ClassifierInput& in, const cv::Point2f
     side_.clear();
     double sr = 0, sg = 0;
     for (int k = s0; k <= s1 && k <= m.W; ++k) {
-      float grey, r, g;
-      sample(in, m.u0 + dir * k, m.v, grey, r, g);
-      side_.push_back(grey);
+      float r, g;
+      row.chroma(m.u0 + dir * k, r, g);
+      side_.push_back(profile_[m.W + dir * k]);
       sr += r;
       sg += g;
     }
@@ -234,12 +252,11 @@ bool BoundaryClassifier::bandCentre(const ClassifierInput& in, int v, double u, 
   const int margin = std::max(3, half);
   const int u0 = static_cast<int>(std::lround(u));
   const int W = half + margin;
-  if (u0 - W < 0 || u0 + W >= in.colour->cols || v < 0 || v >= in.colour->rows) return false;
+  if (u0 - W < 0 || u0 + W >= in.colour->cols) return false;
+  const ImageRow row(in, v);
+  if (!row.valid()) return false;
   profile_.resize(2 * W + 1);
-  for (int k = -W; k <= W; ++k) {
-    float r, g;
-    sample(in, u0 + k, v, profile_[k + W], r, g);
-  }
+  for (int k = -W; k <= W; ++k) profile_[k + W] = row.grey(u0 + k);
   // the road beside the window, and the brightest pixel in it
   side_.clear();
   for (int k = -W; k <= W; ++k)
@@ -266,9 +283,10 @@ bool BoundaryClassifier::bandCentre(const ClassifierInput& in, int v, double u, 
   return true;
 }
 
-int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                                   std::vector<Eigen::Vector3f>& points, const Params& p,
-                                   double max_gap, double max_range, double reach) {
+template <typename FindInRow>
+int BoundaryClassifier::followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                   std::vector<Eigen::Vector3f>& points, double max_gap,
+                                   double max_range, FindInRow&& find) {
   if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return 0;
   const Intrinsics& K = in.K;
   const Eigen::Vector3d& n = in.plane->normal;
@@ -290,6 +308,16 @@ int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Po
     }
     return static_cast<double>(v >= pixels.front().y ? pixels.front().x : pixels.back().x);
   };
+  // the straight line u(v) through the trace: where nothing has been found beyond it yet
+  double ta = 0.0, tb = 0.0;
+  {
+    double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
+    for (const auto& c : pixels)
+      s1 += 1, sv += c.y, su += c.x, svv += c.y * c.y, suv += c.x * c.y;
+    const double den = s1 * svv - sv * sv;
+    tb = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
+    ta = (su - tb * sv) / s1;
+  }
   // forward distance of a road pixel, and pixels per metre across the road there
   auto road = [&](double u, int v, double& f, double& ppm) {
     const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
@@ -305,12 +333,14 @@ int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Po
   auto follow = [&](int v0, int step, std::vector<cv::Point2f>& out) {
     out.clear();
     follow_f_.clear();
-    double last_f = -1.0;
+    double last_f = -1.0, measured_f = -1.0;
     for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
       const bool inside = v <= v_near && v >= v_far;
       double u;
-      if (inside || out.size() < 2) {
-        u = inside || out.empty() ? traceColumn(v) : out.back().x;
+      if (inside) {
+        u = traceColumn(v);
+      } else if (out.size() < 2) {
+        u = ta + tb * v;
       } else {  // least-squares line u(v) through the last rows found
         size_t first = out.size() - 2;  // the rows within kFollowFit of the last one found
         while (first > 0 && std::fabs(follow_f_[first - 1] - follow_f_.back()) <= kFollowFit) --first;
@@ -329,11 +359,11 @@ int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Po
         continue;
       }
       if (!inside && last_f >= 0.0 && std::fabs(f - last_f) > max_gap) break;  // past the line
-      // the first rows beyond the trace, and every row of a predicted line, look wider
-      const double r = inside ? reach : kFollowReach;
-      const int half = std::min(48, std::max(2, static_cast<int>(std::lround(r * ppm))));
+      // near the car rows are a few centimetres apart: one in kFollowSpacing of road is enough
+      if (measured_f >= 0.0 && std::fabs(f - measured_f) < kFollowSpacing) continue;
+      measured_f = f;
       double centre;
-      if (bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre)) {
+      if (find(v, u, ppm, inside || out.size() < 2, centre)) {
         out.emplace_back(static_cast<float>(centre), static_cast<float>(v));
         follow_f_.push_back(f);
         last_f = f;
@@ -355,67 +385,85 @@ int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Po
   return found;
 }
 
-void BoundaryClassifier::locateEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                                    std::vector<Eigen::Vector3f>& points, bool left,
-                                    const Params& p) {
-  if (in.plane == nullptr || !in.plane->valid) return;
-  const Intrinsics& K = in.K;
+int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                   std::vector<Eigen::Vector3f>& points, const Params& p,
+                                   double max_gap, double max_range, double reach) {
+  return followRows(in, pixels, points, max_gap, max_range,
+                    [&](int v, double u, double ppm, bool from_trace, double& centre) {
+                      // where the column comes from the trace (@p reach: wider for a predicted
+                      // line), else from the rows found
+                      const double r = from_trace ? reach : kFollowReach;
+                      const int half = std::min(48, std::max(2, static_cast<int>(std::lround(r * ppm))));
+                      return bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre);
+                    });
+}
+
+int BoundaryClassifier::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                   std::vector<Eigen::Vector3f>& points, bool left,
+                                   const Params& p, double max_gap, double max_range) {
+  return followRows(in, pixels, points, max_gap, max_range,
+                    [&](int v, double u, double ppm, bool from_trace, double& edge) {
+                      // the trace may run on the kerb's top, well beyond its edge; the rows
+                      // found predict the edge itself
+                      return edgeInRow(in, v, u, ppm, left, p,
+                                       from_trace ? kEdgeReference[0] : kFollowReach, edge);
+                    });
+}
+
+bool BoundaryClassifier::edgeInRow(const ClassifierInput& in, int v, double u, double ppm,
+                                   bool left, const Params& p, double inside, double& edge) {
+  if (ppm < kMinPixelsPerMetre) return false;
   const int out_dir = left ? -1 : 1;
-  for (size_t i = 0; i < pixels.size(); ++i) {
-    cv::Point2f& c = pixels[i];
-    const int v = static_cast<int>(std::lround(c.y));
-    if (v < 0 || v >= in.colour->rows) continue;
-    const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-    const double den = in.plane->normal.dot(ray);
-    if (!(den < -1e-9)) continue;
-    const double ppm = K.fx * (-den) / in.plane->distance;  // pixels per metre across the road
-    if (ppm < kMinPixelsPerMetre) continue;
-    const int u0 = static_cast<int>(std::lround(c.x));
-    const int ref0 = static_cast<int>(std::lround(kEdgeReference[0] * ppm));
-    const int ref1 = static_cast<int>(std::lround(kEdgeReference[1] * ppm));
-    const int beyond = static_cast<int>(std::lround(kEdgeBeyond * ppm));
-    const int far_end = beyond + static_cast<int>(std::lround(kEdgeRun * ppm)) + 3;
-    if (u0 - out_dir * ref1 < 0 || u0 - out_dir * ref1 >= in.colour->cols ||
-        u0 + out_dir * far_end < 0 || u0 + out_dir * far_end >= in.colour->cols)
-      continue;
-    // the road well inside the line: its grey and colour
-    side_.clear();
-    double sr = 0.0, sg = 0.0;
-    for (int k = ref0; k <= ref1; ++k) {
-      float grey, r, g;
-      sample(in, u0 - out_dir * k, v, grey, r, g);
-      side_.push_back(grey);
-      sr += r;
-      sg += g;
-    }
-    const float road = median(side_);
-    const float road_r = static_cast<float>(sr / side_.size()), road_g = static_cast<float>(sg / side_.size());
-    const float brighter = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(road, 1.0f));
-    // outward from well inside the line: the first window of kEdgeRun that is mostly not road
-    // (a kerb face, a pavement, grass; a gutter's scattered leaves are not enough)
-    const int run = std::max(3, static_cast<int>(std::lround(kEdgeRun * ppm)));
-    other_.clear();
-    for (int k = -ref0; k <= beyond + run; ++k) {
-      float grey, r, g;
-      sample(in, u0 + out_dir * k, v, grey, r, g);
-      other_.push_back(grey - road >= brighter || std::hypot(r - road_r, g - road_g) >= p.edge_chroma);
-    }
-    const int need = static_cast<int>(std::ceil(kEdgeFill * run));
-    int count = 0, first = 0;
-    bool found = false;
-    for (int j = 0; j < run; ++j) count += other_[j];
-    for (int j = 0; j + run <= static_cast<int>(other_.size()) && j - ref0 <= beyond; ++j) {
-      if (j > 0) count += other_[j + run - 1] - other_[j - 1];
-      if (count >= need && other_[j]) {
-        first = j - ref0;
-        found = true;
-        break;
-      }
-    }
-    if (!found) continue;
-    c.x = static_cast<float>(u0 + out_dir * (first - 0.5));
-    points[i] = pointAt(in, static_cast<int>(std::lround(c.x)), v);
+  const int u0 = static_cast<int>(std::lround(u));
+  const int start = static_cast<int>(std::lround(inside * ppm));
+  const int ref0 = static_cast<int>(std::lround(kEdgeReference[0] * ppm));
+  const int ref1 = static_cast<int>(std::lround(kEdgeReference[1] * ppm));
+  const int beyond = static_cast<int>(std::lround(kEdgeBeyond * ppm));
+  const int run = std::max(3, static_cast<int>(std::lround(kEdgeRun * ppm)));
+  const int far_end = beyond + run + 3;
+  if (u0 - out_dir * ref1 < 0 || u0 - out_dir * ref1 >= in.colour->cols ||
+      u0 + out_dir * far_end < 0 || u0 + out_dir * far_end >= in.colour->cols)
+    return false;
+  const ImageRow row(in, v);
+  if (!row.valid()) return false;
+  // the road well inside the line: its grey and colour
+  side_.clear();
+  double sr = 0.0, sg = 0.0;
+  for (int k = ref0; k <= ref1; ++k) {
+    float r, g;
+    row.chroma(u0 - out_dir * k, r, g);
+    side_.push_back(row.grey(u0 - out_dir * k));
+    sr += r;
+    sg += g;
   }
+  const float road = median(side_);
+  const float road_r = static_cast<float>(sr / side_.size()), road_g = static_cast<float>(sg / side_.size());
+  const float brighter = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(road, 1.0f));
+  // outward from well inside the line: the first window of kEdgeRun that is mostly not road
+  // (a kerb face, a pavement, grass; a gutter's scattered leaves are not enough)
+  const float chroma2 = static_cast<float>(p.edge_chroma * p.edge_chroma);
+  other_.clear();
+  for (int k = -start; k <= beyond + run; ++k) {
+    const int x = u0 + out_dir * k;
+    bool other = row.grey(x) - road >= brighter;
+    if (!other) {
+      float r, g;
+      row.chroma(x, r, g);
+      other = (r - road_r) * (r - road_r) + (g - road_g) * (g - road_g) >= chroma2;
+    }
+    other_.push_back(other);
+  }
+  const int need = static_cast<int>(std::ceil(kEdgeFill * run));
+  int count = 0;
+  for (int j = 0; j < run; ++j) count += other_[j];
+  for (int j = 0; j + run <= static_cast<int>(other_.size()) && j - start <= beyond; ++j) {
+    if (j > 0) count += other_[j + run - 1] - other_[j - 1];
+    if (count >= need && other_[j]) {
+      edge = u0 + out_dir * (j - start - 0.5);
+      return true;
+    }
+  }
+  return false;
 }
 
 void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
@@ -438,7 +486,11 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
 
   int paint_rows = 0, narrow_rows = 0, wide_rows = 0;
   RowMeasure m;
-  for (const auto& c : pixels) {
+  // at most kMaxMeasuredRows rows, spread evenly along the line (a followed line has a point on
+  // every image row; its medians need no more)
+  const size_t stride = (pixels.size() + kMaxMeasuredRows - 1) / kMaxMeasuredRows;
+  for (size_t i = 0; i < pixels.size(); i += stride) {
+    const cv::Point2f& c = pixels[i];
     if (!measureRow(in, c, left, p, cos_heading, m)) continue;
     ++ev.rows;
     ridge_.push_back(m.peak - m.top);
@@ -587,7 +639,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     return den < -1e-9 ? in.frame.toPlane(ray * (-in.plane->distance / den)).x() : NAN;
   };
   double covered = 0.0, total = 0.0;
-  side_.clear();  // yellowness samples
+  yellow_.clear();
   RowMeasure m;
   const size_t n = pixels.size();
   for (size_t k = 0; k < n; ++k) {
@@ -605,11 +657,12 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     if (!band) continue;
     // colour of the paint against the road beside it (the illumination cancels): yellow paint
     // reflects little blue
+    const ImageRow row(in, m.v);
     double pr = 0, pg = 0, pb = 0, ar = 0, ag = 0, ab = 0;
     int np = 0, na = 0;
     for (int k2 = static_cast<int>(std::ceil(band->lo)); k2 <= static_cast<int>(std::floor(band->hi)); ++k2) {
       float R, G, B;
-      rgb(in, m.u0 + k2, m.v, R, G, B);
+      row.rgb(m.u0 + k2, R, G, B);
       pr += R, pg += G, pb += B, ++np;
     }
     const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
@@ -617,15 +670,15 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     for (int dir : {-1, 1})
       for (int k2 = s0; k2 <= s1 && k2 <= m.W; ++k2) {
         float R, G, B;
-        rgb(in, m.u0 + dir * k2, m.v, R, G, B);
+        row.rgb(m.u0 + dir * k2, R, G, B);
         ar += R, ag += G, ab += B, ++na;
       }
     if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;
     const double r = (pr / np) / (ar / na), g = (pg / np) / (ag / na), b = (pb / np) / (ab / na);
-    side_.push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
+    yellow_.push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
   }
   if (total >= kMinCoverageLength) coverage = static_cast<float>(covered / total);
-  if (side_.size() >= 3) yellowness = std::max(0.0f, median(side_));
+  if (yellow_.size() >= 3) yellowness = std::max(0.0f, median(yellow_));
 }
 
 }  // namespace rgbd_lane_detector

@@ -64,6 +64,7 @@ double angleFromHorizontalDeg(double angle, bool left) {
 // Keep a template angle inside the half-plane of its side, away from horizontal/vertical.
 constexpr int kMaxSeedRetries = 4;
 constexpr double kFollowGap = 10.0;  // m: dash gaps a followed line crosses (9 m on highways)
+constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
 constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
 
 double clampAngle(double angle, bool left) {
@@ -245,13 +246,23 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
 void LaneDetector::preprocess(const Frame& frame) {
   resampleColour(frame);
   const cv::Mat& colour = col_map_.empty() ? frame.colour : colour_small_;
+  // the grey image (a half-binary image at threshold 0) when the adaptive threshold or the
+  // classifier reads it
+  const bool grey = params_.adaptive_tau_c || params_.classify_boundaries;
+  if (grey) halfBinary(colour, frame.format, 0, roi_rows_, grey_);
   if (params_.adaptive_tau_c) {
     // per-row threshold: row median + offset (fog, overpasses, shadows change the road's grey)
-    halfBinary(colour, frame.format, 0, roi_rows_, half_binary_);
-    applyRowThreshold(half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_);
+    applyRowThreshold(grey_, half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_);
   } else {
     halfBinary(colour, frame.format, params_.tau_c, roi_rows_, half_binary_);
   }
+  if (!params_.classify_boundaries) return;
+  // the classifier measures profiles on the input image: its grey over the searched rows
+  const double sy = static_cast<double>(input_size_.height) / proc_size_.height;
+  grey_input_rows_ = cv::Range(
+      std::max(0, static_cast<int>(std::floor(roi_rows_.start * sy))),
+      std::min(input_size_.height, static_cast<int>(std::ceil(roi_rows_.end * sy))));
+  if (!col_map_.empty()) halfBinary(frame.colour, frame.format, 0, grey_input_rows_, grey_input_);
 }
 
 void LaneDetector::computePoints(const Frame& frame) {
@@ -332,6 +343,9 @@ void LaneDetector::fitRoadSurface() {
   s.inlier_distance = params_.road_inlier_distance;
   s.noise_growth = params_.road_noise_growth;
   s.max_range = params_.max_depth;
+  const double sx = static_cast<double>(proc_size_.width) / input_size_.width;
+  s.far_columns =
+      RoadSurface::corridorColumns(proc_K_.fx * sx, (proc_K_.cx + 0.5) * sx - 0.5, s.fit_range);
   road_surface_.fit(points_, roi_rows_, s, fitter_.previousPlane(), road_);
 }
 
@@ -430,15 +444,7 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
       }
     return;
   }
-  ClassifierInput& in = classifier_input_;
-  in.colour = &frame.colour;
-  in.format = frame.format;
-  in.K = frame.intrinsics;
-  in.points = &points_;
-  in.scale_x = static_cast<double>(proc_size_.width) / input_size_.width;
-  in.scale_y = static_cast<double>(proc_size_.height) / input_size_.height;
-  in.plane = &road_;
-  in.frame = PlaneFrame::fromPlane(road_);
+  const ClassifierInput& in = classifierInput(frame, road_);
   for (int side = 0; side < 2; ++side)
     for (int k = 0; k < candidate_count_[side]; ++k) {
       BoundaryCandidate& c = candidates_[side][k];
@@ -447,11 +453,49 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint)
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
                                params_.max_depth);
-      // a kerb or an unpainted edge: where the road surface ends (not a rail: its head is it)
+      // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
+      // rail: its head is it)
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
           c.evidence.narrow_rows < c.evidence.rows / 2)
-        classifier_.locateEdge(in, c.trace.pixels, c.trace.points, side == 0, params_);
+        classifier_.followEdge(in, c.trace.pixels, c.trace.points, side == 0, params_, kEdgeGap,
+                               params_.max_depth);
     }
+}
+
+const ClassifierInput& LaneDetector::classifierInput(const Frame& frame,
+                                                     const PlaneEstimate& plane) {
+  ClassifierInput& in = classifier_input_;
+  in.colour = &frame.colour;
+  in.format = frame.format;
+  in.grey = col_map_.empty() ? &grey_ : &grey_input_;
+  in.grey_rows = grey_input_rows_;
+  in.K = frame.intrinsics;
+  in.points = &points_;
+  in.scale_x = static_cast<double>(proc_size_.width) / input_size_.width;
+  in.scale_y = static_cast<double>(proc_size_.height) / input_size_.height;
+  in.plane = &plane;
+  in.frame = PlaneFrame::fromPlane(plane);
+  return in;
+}
+
+bool LaneDetector::paintOnPredictedLine(int side, const PlaneFrame& frame) const {
+  const LaneTracker& tracker = fitter_.tracker();
+  for (int k = 0; k < candidate_count_[side]; ++k) {
+    const BoundaryCandidate& c = candidates_[side][k];
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    int near = 0, total = 0;
+    for (const auto& px : c.trace.pixels) {
+      const Eigen::Vector3d ray((px.x - proc_K_.cx) / proc_K_.fx, (px.y - proc_K_.cy) / proc_K_.fy,
+                                1.0);
+      const double den = road_.normal.dot(ray);
+      if (!(den < -1e-9)) continue;
+      const Eigen::Vector2d q = frame.toPlane(ray * (-road_.distance / den));
+      ++total;
+      if (std::fabs(q.y() - tracker.lateral(side, q.x())) <= kPredictedReach) ++near;
+    }
+    if (total >= params_.min_marker_points && near >= 0.6 * total) return true;
+  }
+  return false;
 }
 
 void LaneDetector::followPredictedLines() {
@@ -466,6 +510,7 @@ void LaneDetector::followPredictedLines() {
     if (!fitter_.tracker().valid(side) || fitter_.sideKind(side) != BoundaryKind::kPaint) continue;
     std::vector<BoundaryCandidate>& cands = candidates_[side];
     int& count = candidate_count_[side];
+    if (paintOnPredictedLine(side, frame)) continue;  // the seeds found it: nothing to add
     if (static_cast<int>(cands.size()) <= count) cands.resize(count + 1);
     BoundaryCandidate& c = cands[count];
     MarkerTrace& m = c.trace;
@@ -507,13 +552,7 @@ void LaneDetector::measurePaint(const Frame& frame, Result& result) {
                             &result.outer[kRoadEdgeLeft], &result.outer[kRoadEdgeRight]};
   for (MarkerTrace* m : traces) m->paint_coverage = m->yellowness = -1.0f;
   if (!params_.classify_boundaries || !result.plane.valid) return;
-  ClassifierInput& in = classifier_input_;
-  in.colour = &frame.colour;
-  in.format = frame.format;
-  in.K = frame.intrinsics;
-  in.points = &points_;
-  in.plane = &result.plane;
-  in.frame = PlaneFrame::fromPlane(result.plane);
+  const ClassifierInput& in = classifierInput(frame, result.plane);
   for (int k = 0; k < 6; ++k) {
     MarkerTrace& m = *traces[k];
     if (!m.found || m.kind != BoundaryKind::kPaint) continue;
@@ -566,15 +605,19 @@ void LaneDetector::applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat&
   // A match on a surface off the lane plane (a truck's stripe, a guard rail) cannot be a road
   // marking: the responses of points farther than plane_gate from the previous plane are removed
   // from both maps (named option, off in the paper mode).
+  // Only matches that can become seeds, PCA regions or traces are looked at: below tau_G,
+  // R = M, and below the trace and PCA thresholds too nothing takes it.
   const Eigen::Vector3f pn = fitter_.previousPlane().normal.cast<float>();
   const float pd = static_cast<float>(fitter_.previousPlane().distance);
   const float max_off = static_cast<float>(params_.plane_gate);
+  const float tau = static_cast<float>(
+      std::min({params_.tau_g, params_.trace_threshold, params_.pca_threshold}));
   for (int y = rows.start; y < rows.end; ++y) {
     const float* q = points_.ptr<float>(y);
     float* ml = left.ptr<float>(y);
     float* mr = right.ptr<float>(y);
     for (int x = 0; x < proc_size_.width; ++x, q += 3) {
-      if (ml[x] == 0.f && mr[x] == 0.f) continue;
+      if (ml[x] < tau && mr[x] < tau) continue;
       if (std::fabs(pn.x() * q[0] + pn.y() * q[1] + pn.z() * q[2] + pd) > max_off)
         ml[x] = mr[x] = 0.f;  // NaN (no depth) compares false: kept
     }

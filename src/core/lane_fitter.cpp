@@ -349,6 +349,8 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       evidence_margin_[i] = 0.f;
       continue;
     }
+    // a side seen in one frame only is not carried on: one frame's stray line is no boundary
+    if (tracker_.age(i) > 0 && !tracker_.established(i)) continue;
     if (tracker_.age(i) == 0 && chosen[i] >= 0) {
       // the side's kind: a decaying vote of its classified evidence (a new side starts over)
       const BoundaryCandidate& c = (*in.candidates)[i][chosen[i]];
@@ -378,7 +380,12 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     } else {
       edge_turns_[i] = 0;
     }
-    if (samples_.empty()) tracker_.sample(i, frame, tp.sample_step, samples_);
+    // (a road edge not as far beyond where it was seen as paint: kerbs end at driveways and
+    // intersections)
+    if (samples_.empty())
+      tracker_.sample(i, frame, tp.sample_step, samples_,
+                      kind_score_[i] < 0.f ? LaneTracker::kEdgeExtrapolation
+                                           : LaneTracker::kPaintExtrapolation);
     for (const auto& q : samples_) {
       if (!(q.z() > 0.1f)) continue;
       if (frame.toPlane(q.cast<double>()).x() > std::max(road_range, 1.0)) break;

@@ -11,19 +11,25 @@ namespace rgbd_lane_detector {
 namespace {
 
 constexpr double kForwardScale = 20.0;  // m; keeps the normal equations well conditioned
-// Ridge on the curvature term: a short, straight stretch of evidence must not yield a
+// Ridge on each side's curvature term: a short, straight stretch of evidence must not yield a
 // strongly curved model when extrapolated.
-constexpr double kCurvatureRidge = 0.5;
+constexpr double kCurvatureRidge = 0.25;
+// Weight of the prior that both sides have the same heading and curvature (in the normal
+// equations' scaled units, against the sums of a side's weighted evidence): a side whose own
+// points span a few metres takes its shape from the other side; two sides seen over tens of
+// metres keep their own, shrunk toward each other by a few per cent.
+constexpr double kParallelPrior = 1.0;
 // A side whose evidence is this many frames old may be replaced at once by measurements that
 // disagree with it (lane change, or a track that was wrong).
 constexpr int kStaleAge = 3;
 // Measurements nearer than this (m) get full weight; farther ones 1/f^2 (a pixel's lateral
 // extent grows with the distance).
 constexpr double kNearRange = 10.0;
-// How far (m) a side is reported beyond its own evidence.
-constexpr double kMaxExtrapolation = 4.0;
-// Upper bound of the reported points per side.
+// Bounds of the reported points per side.
+constexpr int kMinSamples = 10;
 constexpr int kMaxSamples = 40;
+// A side's reported range is at least this long (m): shorter evidence is no lane boundary.
+constexpr double kMinLength = 2.0;
 // Sideways speed of the lane: gain of each frame's measured shift, decay without one.
 constexpr double kDriftGain = 0.5;
 constexpr double kDriftDecay = 0.9;
@@ -66,12 +72,14 @@ void LaneTracker::reset() {
 }
 
 void LaneTracker::handOver(int from) {
-  // The lane's sums live in (a_left, a_right, b, c): side `from`'s evidence moves to the other
-  // side's intercept, its shape terms stay.
+  // The sums live in (a_l, a_r, b_l, b_r, c_l, c_r): side `from`'s evidence moves to the other
+  // side's terms.
   const int to = 1 - from;
-  Eigen::PermutationMatrix<4> P;
+  Eigen::PermutationMatrix<6> P;
   P.setIdentity();
   P.applyTranspositionOnTheRight(0, 1);
+  P.applyTranspositionOnTheRight(2, 3);
+  P.applyTranspositionOnTheRight(4, 5);
   A_[to] = P * A_[from] * P.transpose();
   b_[to] = P * b_[from];
   sides_[to] = sides_[from];
@@ -90,10 +98,12 @@ void LaneTracker::resetSide(int i) {
   else coef_.setZero();
 }
 
-LaneTracker::Vec4 LaneTracker::basis(int side, double f) {
+LaneTracker::Vec6 LaneTracker::basis(int side, double f) {
   const double s = f / kForwardScale;
-  Vec4 v;
-  v << (side == 0 ? 1.0 : 0.0), (side == 1 ? 1.0 : 0.0), s, s * s;
+  Vec6 v = Vec6::Zero();
+  v[side] = 1.0;
+  v[2 + side] = s;
+  v[4 + side] = s * s;
   return v;
 }
 
@@ -108,11 +118,17 @@ void LaneTracker::shift(double delta) {
 }
 
 void LaneTracker::solve() {
-  Mat4 M = A_[0] + A_[1];
-  M(0, 0) += 1e-9;
-  M(1, 1) += 1e-9;
-  M(2, 2) += 1e-9;
-  M(3, 3) += kCurvatureRidge;
+  Mat6 M = A_[0] + A_[1];
+  for (int k = 0; k < 4; ++k) M(k, k) += 1e-9;
+  M(4, 4) += kCurvatureRidge;
+  M(5, 5) += kCurvatureRidge;
+  // the soft parallel prior: kParallelPrior (b_l - b_r)^2 + kParallelPrior (c_l - c_r)^2
+  for (int k : {2, 4}) {
+    M(k, k) += kParallelPrior;
+    M(k + 1, k + 1) += kParallelPrior;
+    M(k, k + 1) -= kParallelPrior;
+    M(k + 1, k) -= kParallelPrior;
+  }
   coef_ = M.ldlt().solve(b_[0] + b_[1]);
   if (!coef_.allFinite()) reset();
 }
@@ -196,7 +212,7 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
         if (gate[i] && std::fabs(q.y() - lateral(i, q.x())) > params.gate) continue;
         const double r = std::max(q.x(), kNearRange) / kNearRange;
         const double w = 1.0 / (r * r);
-        const Vec4 phi = basis(i, q.x());
+        const Vec6 phi = basis(i, q.x());
         A_[i].noalias() += w * phi * phi.transpose();
         b_[i].noalias() += w * phi * q.y();
         near = std::min(near, q.x());
@@ -247,7 +263,7 @@ void LaneTracker::trimToLine(std::vector<Eigen::Vector2d>& m, double gate) {
 }
 
 void LaneTracker::sample(int i, const PlaneFrame& frame, double step,
-                         std::vector<Eigen::Vector3f>& out) const {
+                         std::vector<Eigen::Vector3f>& out, double beyond) const {
   out.clear();
   const Side& s = sides_[i];
   if (!s.valid || !frame.valid || !(step > 0.0)) return;
@@ -255,14 +271,14 @@ void LaneTracker::sample(int i, const PlaneFrame& frame, double step,
   const Side& other = sides_[1 - i];
   if (other.valid) {
     // extend over the other side's range, but report a side only so far beyond its own evidence
-    near = std::min(near, other.nearest());
-    far = std::max(far, std::min(other.farthest(), far + kMaxExtrapolation));
+    near = std::min(near, std::max(other.nearest(), near - beyond));
+    far = std::max(far, std::min(other.farthest(), far + beyond));
   }
   near = std::max(near, 0.5);
-  if (!(far >= near)) return;
+  if (!(far >= near + kMinLength)) return;
   // Uniform in 1/f, i.e. about uniform in image rows like the traced centroids: the far range,
   // where a pixel spans decimetres, does not dominate the reported points.
-  const int count = std::max(2, static_cast<int>(std::ceil((far - near) / step)));
+  const int count = std::max(kMinSamples, static_cast<int>(std::ceil((far - near) / step)));
   const int n = std::min(count, kMaxSamples);
   const double a = 1.0 / near, b = 1.0 / far;
   for (int k = 0; k < n; ++k) {

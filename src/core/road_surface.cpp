@@ -9,7 +9,6 @@
 namespace rgbd_lane_detector {
 namespace {
 
-constexpr float kCorridorHalfWidth = 2.5f;  // m either side of the camera: the road ahead
 constexpr float kCorridorWeight = 3.0f;
 constexpr int kMinSamples = 30;             // fewer near samples: no fit
 constexpr int kRansacIterations = 128;
@@ -22,6 +21,7 @@ constexpr double kNoiseMinDepth = 5.0;      // m: the noise growth is measured b
 constexpr size_t kMaxSupport = 200;         // support points kept for the message
 // Valid range: 5 m bins beyond fit_range, the mode of the corridor's residuals per bin.
 constexpr double kBinLength = 5.0;
+constexpr int kMaxRangeBins = 40;           // bins looked at (200 m beyond fit_range)
 constexpr int kMinBinSamples = 12;
 constexpr float kHistogramRange = 1.0f;     // residuals within +-1 m enter the histogram
 constexpr int kHistogramBins = 50;          // 4 cm bins
@@ -52,6 +52,7 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
                           const RoadSurfaceSettings& s) {
   near_.clear();
   far_.clear();
+  near_end_ = 0.0;
   const int height = std::max(0, rows.end - rows.start);
   const double area = static_cast<double>(height) * points.cols;
   const int stride =
@@ -59,27 +60,41 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
   const float fit_range = static_cast<float>(s.fit_range);
   const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
   const int centre = points.cols / 2;
+  const cv::Range far_cols =
+      s.far_columns.empty()
+          ? cv::Range(0, points.cols)
+          : cv::Range(std::max(0, s.far_columns.start), std::min(points.cols, s.far_columns.end));
+  // a sample of pixel q: false without depth
+  auto sample = [max_range](const float* q, Sample& smp) {
+    if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
+      return false;
+    const bool corridor = std::fabs(q[0]) < RoadSurface::kCorridorHalfWidth;
+    smp = Sample{Eigen::Vector3f(q[0], q[1], q[2]), corridor ? kCorridorWeight : 1.0f};
+    return true;
+  };
+  Sample smp;
   for (int y = rows.start; y < rows.end; ++y) {
     const float* row = points.ptr<float>(y);
-    // Every stride-th row on a grid (the fit); beyond fit_range the corridor's every pixel (the
-    // valid range check: far away the corridor is a few pixels wide).
+    // every stride-th pixel of every stride-th row on a grid (the fit)
     const bool grid_row = (y - rows.start) % stride == stride / 2;
+    if (grid_row) {
+      for (int x = stride / 2; x < points.cols; x += stride) {
+        if (!sample(row + 3 * x, smp)) continue;
+        (smp.p.z() <= fit_range ? near_ : far_).push_back(smp);
+      }
+    }
+    // beyond fit_range the corridor's every pixel (the valid range check: far away the corridor
+    // is a few pixels wide)
     const float zc = row[3 * centre + 2];
     const bool far_row = !(zc <= 0.9f * fit_range);  // far, or no depth at the centre
-    if (!grid_row && !far_row) continue;
-    for (int x = 0; x < points.cols; ++x) {
-      const float* q = row + 3 * x;
-      const bool grid = grid_row && x % stride == stride / 2;
-      if (!grid && !far_row) continue;
-      if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
-        continue;
-      const bool corridor = std::fabs(q[0]) < kCorridorHalfWidth;
-      const Sample smp{Eigen::Vector3f(q[0], q[1], q[2]), corridor ? kCorridorWeight : 1.0f};
-      if (q[2] <= fit_range) {
-        if (grid) near_.push_back(smp);
-      } else if (corridor || grid) {
+    if (!far_row) continue;
+    for (int x = far_cols.start; x < far_cols.end; ++x) {
+      if (grid_row && x % stride == stride / 2) continue;  // taken on the grid
+      if (!sample(row + 3 * x, smp) || smp.weight != kCorridorWeight) continue;
+      if (smp.p.z() > fit_range)
         far_.push_back(smp);
-      }
+      else  // how far the depth reaches within the fit's range
+        near_end_ = std::max(near_end_, static_cast<double>(smp.p.z()));
     }
   }
   // Depth only farther away (a LiDAR or stereo gap near the car): fit over twice the range.
@@ -90,6 +105,12 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
     near_.insert(near_.end(), mid, far_.end());
     far_.erase(mid, far_.end());
   }
+}
+
+cv::Range RoadSurface::corridorColumns(double fx, double cx, double fit_range) {
+  const double half = kCorridorHalfWidth * fx / std::max(fit_range, 1e-3);
+  return cv::Range(static_cast<int>(std::floor(cx - half)) - 1,
+                   static_cast<int>(std::ceil(cx + half)) + 2);
 }
 
 bool RoadSurface::plausible(const Eigen::Vector3d& n, double d,
@@ -165,32 +186,34 @@ bool RoadSurface::refine(const RoadSurfaceSettings& s, double first_band, Eigen:
                          double& d) {
   double factor = first_band;
   for (int it = 0; it < kRefineIterations; ++it) {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    // weighted moments in one pass: the mean and the scatter about it (relative to the first
+    // sample, so that the subtraction loses nothing at road distances)
+    const Eigen::Vector3d origin = near_.front().p.cast<double>();
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
     double wsum = 0.0;
     for (const Sample& smp : near_) {
       const Eigen::Vector3d p = smp.p.cast<double>();
       const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * bandAt(s, p.z()));
-      mean += w * p;
+      if (w <= 0.0) continue;
+      const Eigen::Vector3d q = p - origin;
+      sum += w * q;
+      scatter.noalias() += w * q * q.transpose();
       wsum += w;
     }
     if (!(wsum > 0.0)) return false;
-    mean /= wsum;
-    Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-    for (const Sample& smp : near_) {
-      const Eigen::Vector3d p = smp.p.cast<double>();
-      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * bandAt(s, p.z()));
-      if (w <= 0.0) continue;
-      const Eigen::Vector3d q = p - mean;
-      C.noalias() += w * q * q.transpose();
-    }
+    const Eigen::Vector3d mean_q = sum / wsum;
+    const Eigen::Matrix3d C = scatter - wsum * mean_q * mean_q.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(C);
     const Eigen::Vector3d ev = es.eigenvalues();
     if (!(ev[1] > 1e-9 * std::max(ev[2], 1e-12))) return false;  // degenerate (one line)
     Eigen::Vector3d cand = es.eigenvectors().col(0);
-    double cd = -cand.dot(mean);
+    double cd = -cand.dot(origin + mean_q);
     if (!orient(cand, cd)) return false;
+    const bool converged = (cand - n).norm() < 1e-7 && std::fabs(cd - d) < 1e-7;
     n = cand;
     d = cd;
+    if (converged && factor <= 1.0) break;
     factor = std::max(1.0, 0.5 * factor);
   }
   return plausible(n, d, s);
@@ -202,31 +225,35 @@ void RoadSurface::measureValidRange(const RoadSurfaceSettings& s, const Eigen::V
   // samples (a car's rear spreads over its height, the road concentrates at its own). The plane
   // holds up to the first bin whose road leaves it, or whose road cannot be told (no sharp mode:
   // depth too noisy there).
-  double near_end = 0.0;
+  double near_end = near_end_;
   for (const Sample& smp : near_) near_end = std::max(near_end, static_cast<double>(smp.p.z()));
   valid_range_ = near_end >= 0.8 * s.fit_range ? s.fit_range : near_end;
   const Eigen::Vector3f nf = n.cast<float>();
   const float df = static_cast<float>(d);
-  int hist[kHistogramBins];
+  // one pass over the far samples: each corridor sample into its bin's residual histogram
+  const int num_bins = std::max(0, std::min(kMaxRangeBins, static_cast<int>(std::ceil(
+                                                               (s.max_range - s.fit_range) / kBinLength))));
   const float bin = 2.0f * kHistogramRange / kHistogramBins;
-  for (double z0 = s.fit_range; z0 < s.max_range; z0 += kBinLength) {
-    const double z1 = z0 + kBinLength;
-    std::fill(hist, hist + kHistogramBins, 0);
-    int count = 0;
-    for (const Sample& smp : far_) {
-      if (smp.weight < kCorridorWeight || smp.p.z() <= z0 || smp.p.z() > z1) continue;
-      const float r = nf.dot(smp.p) + df;
-      if (std::fabs(r) >= kHistogramRange) continue;
-      const int b = static_cast<int>((r + kHistogramRange) / bin);
-      ++hist[std::min(std::max(b, 0), kHistogramBins - 1)];
-      ++count;
-    }
+  int hist[kMaxRangeBins][kHistogramBins] = {};
+  int counts[kMaxRangeBins] = {};
+  for (const Sample& smp : far_) {
+    if (smp.weight < kCorridorWeight || !(smp.p.z() > s.fit_range)) continue;
+    const int k = static_cast<int>(std::ceil((smp.p.z() - s.fit_range) / kBinLength)) - 1;
+    if (k < 0 || k >= num_bins) continue;
+    const float r = nf.dot(smp.p) + df;
+    if (std::fabs(r) >= kHistogramRange) continue;
+    const int b = static_cast<int>((r + kHistogramRange) / bin);
+    ++hist[k][std::min(std::max(b, 0), kHistogramBins - 1)];
+    ++counts[k];
+  }
+  for (int k = 0; k < num_bins; ++k) {
+    const int count = counts[k];
     if (count < kMinBinSamples) continue;  // nothing seen there (occluded, no depth): unknown
     int peak = 0, peak_count = -1;
     for (int b = 0; b < kHistogramBins; ++b) {
       int c = 0;
-      for (int k = std::max(0, b - kModeHalfWidth); k <= std::min(kHistogramBins - 1, b + kModeHalfWidth); ++k)
-        c += hist[k];
+      for (int j = std::max(0, b - kModeHalfWidth); j <= std::min(kHistogramBins - 1, b + kModeHalfWidth); ++j)
+        c += hist[k][j];
       if (c > peak_count) {
         peak_count = c;
         peak = b;
@@ -235,7 +262,7 @@ void RoadSurface::measureValidRange(const RoadSurfaceSettings& s, const Eigen::V
     const double mode = (peak + 0.5) * bin - kHistogramRange;
     if (peak_count < kSharpMode * count) break;            // no clear road surface
     if (std::fabs(mode) > kLeavesPlane + bin) break;       // the road left the plane
-    valid_range_ = z1;
+    valid_range_ = s.fit_range + (k + 1) * kBinLength;
   }
 }
 

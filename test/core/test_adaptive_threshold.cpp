@@ -26,12 +26,21 @@ TEST(AdaptiveThreshold, EachRowAtItsMedianPlusOffset) {
   std::copy(fog, fog + 8, img.ptr<uint8_t>(1));
   img.row(2).setTo(77);
   std::vector<int> hist;
-  applyRowThreshold(img, cv::Range(0, 2), 30, hist);
-  for (int x = 0; x < 8; ++x) {
-    EXPECT_EQ(img.at<uint8_t>(0, x), x == 4 ? 60 : 0);   // a fixed tau_c = 100 would lose it
-    EXPECT_EQ(img.at<uint8_t>(1, x), x == 4 ? 210 : 0);  // a fixed tau_c = 100 keeps all fog
-    EXPECT_EQ(img.at<uint8_t>(2, x), 77);                // outside the rows: untouched
+  const cv::Mat grey = img.clone();
+  cv::Mat out;
+  applyRowThreshold(grey, out, cv::Range(0, 2), 30, hist);  // into another image
+  applyRowThreshold(img, img, cv::Range(0, 2), 30, hist);   // in place
+  for (const cv::Mat* m : {&out, &img}) {
+    for (int x = 0; x < 8; ++x) {
+      EXPECT_EQ(m->at<uint8_t>(0, x), x == 4 ? 60 : 0);   // a fixed tau_c = 100 would lose it
+      EXPECT_EQ(m->at<uint8_t>(1, x), x == 4 ? 210 : 0);  // a fixed tau_c = 100 keeps all fog
+    }
   }
+  for (int x = 0; x < 8; ++x) {
+    EXPECT_EQ(img.at<uint8_t>(2, x), 77);  // outside the rows: untouched
+    EXPECT_EQ(out.at<uint8_t>(2, x), 0);   // a new output starts zeroed
+  }
+  EXPECT_EQ(grey.at<uint8_t>(0, 0), 20);  // the input of the copy is kept
 }
 
 }  // namespace

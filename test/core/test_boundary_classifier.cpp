@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/boundary_classifier.h"
+#include "rgbd_lane_detector/half_binary.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -85,7 +86,7 @@ std::vector<cv::Point2f> linePixels(double x, double h = 0.0) {
 cv::Vec3b grey(int g) { return cv::Vec3b(g, g, g); }
 
 struct Fixture {
-  cv::Mat bgr, points;
+  cv::Mat bgr, grey, points;
   PlaneEstimate plane = level();
   ClassifierInput in;
   BoundaryClassifier classifier;
@@ -94,8 +95,11 @@ struct Fixture {
   void classify(const CrossSection& cs, std::vector<cv::Point2f> px, bool left,
                 const Params& p = Params::improved()) {
     cs.render(bgr, points);
+    halfBinary(bgr, PixelFormat::kBgr8, 0, cv::Range(0, bgr.rows), grey);  // threshold 0: grey
     in.colour = &bgr;
     in.format = PixelFormat::kBgr8;
+    in.grey = &grey;
+    in.grey_rows = cv::Range(0, bgr.rows);
     in.K = kK;
     in.points = &points;
     in.plane = &plane;
@@ -221,6 +225,113 @@ TEST(BoundaryClassifier, NothingWithoutAPlane) {
   f.plane.valid = false;
   f.classify(cs, linePixels(-1.8), true);
   EXPECT_FALSE(f.ev.boundary);
+}
+
+// Lateral position (m, right) on the level road of an input pixel.
+double roadLateral(const cv::Point2f& c) {
+  const double z = kK.fy * kHeight / (c.y - kK.cy);
+  return (c.x - kK.cx) / kK.fx * z;
+}
+double roadForward(const cv::Point2f& c) { return kK.fy * kHeight / (c.y - kK.cy); }
+
+TEST(BoundaryClassifier, FollowLineCentresOnThePaintAndCrossesDashGaps) {
+  // dashes of 4 m every 12 m at x = -1.7; the "trace" covers the dash 12-16 m ahead, 6 cm off
+  // the paint's centre
+  CrossSection cs;
+  cs.colour = [](double x, double z) {
+    const bool dash = std::fmod(z, 12.0) < 4.0;
+    return dash && std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80);
+  };
+  Fixture f;
+  f.classify(cs, linePixels(-1.7), true);  // renders the scene, sets the frame views
+  std::vector<cv::Point2f> px;
+  for (double z = 12.0; z <= 16.0; z += 0.25)
+    px.emplace_back(static_cast<float>(kK.fx * -1.64 / z + kK.cx),
+                    static_cast<float>(kK.fy * kHeight / z + kK.cy));
+  std::vector<Eigen::Vector3f> pts;
+  const int rows = f.classifier.followLine(f.in, px, pts, Params::improved(), 10.0, 60.0);
+  ASSERT_GE(rows, 10);
+  ASSERT_EQ(px.size(), pts.size());
+  double nearest = 1e9, farthest = 0.0;
+  for (const auto& c : px) {
+    // on the paint's centre, not the trace (within 3 cm, or 0.6 px far away)
+    EXPECT_NEAR(roadLateral(c), -1.7, std::max(0.03, 0.6 * roadForward(c) / kK.fx)) << c;
+    nearest = std::min(nearest, roadForward(c));
+    farthest = std::max(farthest, roadForward(c));
+  }
+  EXPECT_LT(nearest, 4.0);    // across the 8 m gap down to the dash at 0-4 m
+  EXPECT_GT(farthest, 24.0);  // and up to the dash at 24-28 m
+  for (size_t i = 1; i < px.size(); ++i) EXPECT_LT(px[i].y, px[i - 1].y);  // near to far
+}
+
+TEST(BoundaryClassifier, FollowEdgeFindsWhereTheRoadEnds) {
+  // a kerb at x = 1.8 whose top (light stones) was traced 10 cm beyond the edge, 8-12 m ahead;
+  // leaves scattered in the gutter 0.3 m inside it are no edge
+  CrossSection cs;
+  cs.boxes = {{1.8, INFINITY, 0.12}};
+  cs.colour = [](double x, double z) {
+    if (x > 1.8 - 1e-6 && x < 1.95) return grey(200);  // its face and top
+    if (x > 1.8) return grey(150);
+    if (x > 1.45 && x < 1.5 && std::fmod(z, 1.0) < 0.2) return cv::Vec3b(160, 90, 30);  // leaf
+    return grey(80);
+  };
+  Fixture f;
+  f.classify(cs, linePixels(1.9, 0.12), false);
+  ASSERT_TRUE(f.ev.boundary);
+  ASSERT_EQ(f.ev.kind, BoundaryKind::kRoadEdge);
+  std::vector<cv::Point2f> px;
+  for (double z = 8.0; z <= 12.0; z += 0.25)
+    px.emplace_back(static_cast<float>(kK.fx * 1.9 / z + kK.cx),
+                    static_cast<float>(kK.fy * (kHeight - 0.12) / z + kK.cy));
+  std::vector<Eigen::Vector3f> pts;
+  const int rows = f.classifier.followEdge(f.in, px, pts, false, Params::improved(), 2.0, 60.0);
+  ASSERT_GE(rows, 10);
+  double nearest = 1e9, farthest = 0.0;
+  for (const auto& c : px) {
+    EXPECT_NEAR(roadLateral(c), 1.8, 0.06) << c;  // the bottom of the kerb's face
+    nearest = std::min(nearest, roadForward(c));
+    farthest = std::max(farthest, roadForward(c));
+  }
+  EXPECT_LT(nearest, 6.0);   // followed toward the car
+  EXPECT_GT(farthest, 14.0);  // and beyond the trace
+}
+
+TEST(BoundaryClassifier, MeasurePaintTellsDashedFromSolidAndYellowFromWhite) {
+  Params p = Params::improved();
+  float coverage, yellowness;
+  {
+    CrossSection cs;  // a solid white line
+    cs.colour = [](double x, double) { return std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80); };
+    Fixture f;
+    f.classify(cs, linePixels(-1.7), true);
+    f.classifier.measurePaint(f.in, linePixels(-1.7), true, p, coverage, yellowness);
+    EXPECT_GT(coverage, 0.9f);
+    EXPECT_GE(yellowness, 0.0f);
+    EXPECT_LT(yellowness, 0.1f);
+  }
+  {
+    CrossSection cs;  // a dashed white line: 3 m of paint every 12 m
+    cs.colour = [](double x, double z) {
+      const bool dash = std::fmod(z, 12.0) < 3.0;
+      return dash && std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80);
+    };
+    Fixture f;
+    f.classify(cs, linePixels(-1.7), true);
+    f.classifier.measurePaint(f.in, linePixels(-1.7), true, p, coverage, yellowness);
+    EXPECT_NEAR(coverage, 0.25f, 0.12f);
+    EXPECT_LT(coverage, static_cast<float>(p.dashed_coverage));
+  }
+  {
+    CrossSection cs;  // a solid yellow line
+    cs.colour = [](double x, double) {
+      return std::fabs(x + 1.7) < 0.075 ? cv::Vec3b(220, 180, 40) : grey(80);
+    };
+    Fixture f;
+    f.classify(cs, linePixels(-1.7), true);
+    f.classifier.measurePaint(f.in, linePixels(-1.7), true, p, coverage, yellowness);
+    EXPECT_GT(coverage, 0.9f);
+    EXPECT_GT(yellowness, static_cast<float>(p.yellow_threshold));
+  }
 }
 
 }  // namespace

@@ -197,7 +197,9 @@ TEST(LaneFitter, KindFollowsTheEvidence) {
     f.fit(fitter);
     ASSERT_TRUE(f.result.right.found);
     kind = f.result.right.kind;
-    if (i < 2) EXPECT_EQ(kind, kEdge) << i;
+    if (i < 2) {
+      EXPECT_EQ(kind, kEdge) << i;
+    }
   }
   EXPECT_EQ(kind, kPaint);
 }

@@ -1,4 +1,5 @@
-// Temporal lane model: parallel markers in the road plane, gap bridging, drift, outliers.
+// Temporal lane model: boundaries in the road plane (softly parallel), gap bridging, drift,
+// outliers, reported ranges.
 #include <cmath>
 #include <vector>
 
@@ -144,6 +145,57 @@ TEST(LaneTracker, CurvedLane) {
     EXPECT_NEAR(t.lateral(0, d), curved(d) - 1.8, 0.05) << d;
     EXPECT_NEAR(t.lateral(1, d), curved(d) + 1.8, 0.05) << d;
   }
+}
+
+double diverging(double f) { return 0.08 * f; }  // a kerb leaving the lane (4.6 deg)
+double heading(double f) { return 0.05 * f; }     // both lines at 2.9 deg to the camera
+
+TEST(LaneTracker, TwoWellSeenSidesKeepTheirOwnHeadings) {
+  // paint straight ahead on the left, a kerb turning away on the right (before an intersection):
+  // each side seen over 3-30 m follows its own points, not a shared shape
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  for (int i = 0; i < 3; ++i)
+    t.update(f, marker(straight, -1.8, 3, 30, 0.5), marker(diverging, 1.8, 3, 30, 0.5), tp);
+  for (double d : {5.0, 15.0, 25.0}) {
+    EXPECT_NEAR(t.lateral(0, d), -1.8, 0.1) << d;
+    EXPECT_NEAR(t.lateral(1, d), 1.8 + diverging(d), 0.1) << d;
+  }
+}
+
+TEST(LaneTracker, AShortDashTakesItsShapeFromTheOtherSide) {
+  // one dash of 2 m on the right says little of its heading: it runs parallel to the left line
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  std::vector<Eigen::Vector3f> dash = marker(heading, 1.8, 10, 12, 0.25);
+  for (size_t k = 0; k < dash.size(); ++k)  // 3 cm of noise, the far half to one side
+    dash[k].x() += k < dash.size() / 2 ? -0.03f : 0.03f;
+  for (int i = 0; i < 3; ++i) t.update(f, marker(heading, -1.8, 3, 40, 0.5), dash, tp);
+  EXPECT_NEAR(t.lateral(1, 11.0), 1.8 + heading(11.0), 0.05);
+  EXPECT_NEAR(t.lateral(1, 30.0), 1.8 + heading(30.0), 0.15);
+}
+
+TEST(LaneTracker, ARoadEdgeIsReportedLessFarBeyondItsEvidence) {
+  LaneTracker t;
+  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  TrackerParams tp;
+  t.update(f, marker(straight, -1.8, 3, 30), marker(straight, 1.8, 4, 10), tp);
+  std::vector<Eigen::Vector3f> out;
+  t.sample(1, f, tp.sample_step, out, LaneTracker::kEdgeExtrapolation);
+  ASSERT_FALSE(out.empty());
+  EXPECT_NEAR(out.back().z(), 10.0f + LaneTracker::kEdgeExtrapolation, 0.3f);
+  EXPECT_NEAR(out.front().z(), 3.0f, 0.3f);  // toward the car: the other side's 3 m
+  t.sample(1, f, tp.sample_step, out, 0.0);
+  EXPECT_NEAR(out.back().z(), 10.0f, 0.3f);
+  EXPECT_NEAR(out.front().z(), 4.0f, 0.3f);
+  // evidence shorter than 2 m is no boundary
+  LaneTracker s;
+  s.update(f, kNone, marker(straight, 1.8, 4, 5.5, 0.25), tp);
+  ASSERT_TRUE(s.valid(1));
+  s.sample(1, f, tp.sample_step, out, 0.0);
+  EXPECT_TRUE(out.empty());
 }
 
 TEST(LaneTracker, InvalidFrameAgesWithoutCrashing) {
