@@ -46,6 +46,8 @@ struct BoundaryEvidence {
   float line_height = kNaN;     ///< the line's depth above the road (m)
   float inner_height = kNaN;    ///< the surface on the vehicle's side of it, above the road (m)
   float outer_height = kNaN;    ///< the surface beyond it, above the road (m)
+  float step_height = kNaN;     ///< the surface beyond it above the one on the vehicle's side, in
+                                ///< most rows (m; NaN: no consistent step)
   float margin = 0.0f;          ///< in [0, 1]: how clearly the measurements support the kind
 };
 
@@ -59,6 +61,9 @@ struct ClassifierInput {
   cv::Range grey_rows;
   Intrinsics K;                        ///< of the input image
   const cv::Mat* points = nullptr;     ///< CV_32FC3 organised points at the processing scale
+  /// optional CV_8UC1 of the points' size: non-zero where a point is the road plane extended
+  /// over missing depth, not a measurement (no height is read there)
+  const cv::Mat* filled = nullptr;
   double scale_x = 1.0, scale_y = 1.0; ///< processing / input resolution
   PlaneEstimate const* plane = nullptr;  ///< road plane (valid)
   PlaneFrame frame;                    ///< its road coordinates (forward, lateral right)
@@ -194,6 +199,7 @@ class BoundaryClassifier {
   std::vector<Band> bands_;
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
   std::vector<float> yellow_;  ///< measurePaint(): yellowness of each painted row
+  std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
   std::vector<unsigned char> other_;  ///< edgeInRow(): pixels of a row that are not road

@@ -24,10 +24,11 @@ namespace rgbd_lane_detector {
 /**
  * @brief Lane marker and lane plane detector (Quach et al.), ROS-free.
  *
- * detect() runs the stages in order: pre-processing (half-binary image), depth to points,
- * normals with the geometric map G and template matching, the response map R, the road surface
- * from depth (improved mode), boundary candidates (seeds, PCA angle, sliding-box tracing) per
- * side, their classification (paint, road edge, no boundary), and the lane fit (LaneFitter).
+ * detect() runs the stages in order: pre-processing (half-binary image), depth to points, the
+ * road surface from depth (improved mode; extended toward the camera where depth is missing),
+ * normals with the geometric map G and template matching, the response map R, boundary
+ * candidates (seeds, PCA angle, sliding-box tracing) per side, their classification (paint, road
+ * edge, no boundary), and the lane fit (LaneFitter), paint measurements and the lane model.
  * Carries state between frames: the PCA-refined template angles and, with the temporal
  * options, the previous plane and the lane model. Call reset() when the stream restarts
  * (rosbag loop, seek).
@@ -85,8 +86,10 @@ class LaneDetector {
   void prepareGeometry(const Frame& frame);
   void preprocess(const Frame& frame);
   void computePoints(const Frame& frame);
-  void computeResponses();
+  /// The road plane from depth (improved mode), extended toward the camera where depth is
+  /// missing (fillFromRoadPlane()).
   void fitRoadSurface();
+  void computeResponses();
   /// Trace up to boundary_candidates lines of one side whose seeds are the best matches of
   /// @p R off the lines already traced, appended to candidates_[side].
   void findCandidates(int side, cv::Mat& R);
@@ -151,6 +154,8 @@ class LaneDetector {
   cv::Range grey_input_rows_;  ///< rows of the input image that the classifier's grey covers
   cv::Mat half_binary_;
   cv::Mat points_;
+  cv::Mat road_filled_;  ///< 255 where points_ holds the road plane, not depth (fillFromRoadPlane())
+  bool road_filled_valid_ = false;  ///< road_filled_ belongs to this frame
   cv::Mat geometric_;
   cv::Mat response_left_, response_right_;
   StageTimings timings_;

@@ -18,6 +18,8 @@ constexpr double kSideFar = 0.5;             // ... and end here
 constexpr double kHeightNear = 0.3;          // m: heights of the sides are read here
 constexpr double kHeightFar = 0.5;
 constexpr float kObjectHeight = 0.3f;        // a line higher than this above the road is an object
+constexpr int kHeightSearch = 3;             // rows up and down a height is sought (sparse depth)
+constexpr double kStepShare = 0.7;           // share of a line's rows that must show its step
 constexpr float kRidgeShare = 0.5f;          // share of measured rows that must show a band
 constexpr int kMinRows = 3;
 constexpr size_t kMaxMeasuredRows = 48;      // rows a classification measures at most
@@ -88,6 +90,16 @@ class ImageRow {
   int cn_ = 1, r_ = 0, g_ = 0, b_ = 0;
 };
 
+// The step of per-row height differences @p steps: their median, when at least kStepShare of them
+// reach @p kerb (else NaN: no consistent step). False when fewer than kMinHeights are measured.
+bool stepInMostRows(std::vector<float>& steps, float kerb, float& step) {
+  step = kNaN;
+  if (static_cast<int>(steps.size()) < kMinHeights) return false;
+  const auto high = std::count_if(steps.begin(), steps.end(), [kerb](float h) { return h >= kerb; });
+  if (high >= kStepShare * static_cast<double>(steps.size())) step = median(steps);
+  return true;
+}
+
 }  // namespace
 
 float BoundaryClassifier::heightAt(const ClassifierInput& in, int u, int v) const {
@@ -95,10 +107,19 @@ float BoundaryClassifier::heightAt(const ClassifierInput& in, int u, int v) cons
   const int x = static_cast<int>((u + 0.5) * in.scale_x);
   const int y = static_cast<int>((v + 0.5) * in.scale_y);
   if (x < 0 || y < 0 || x >= P.cols || y >= P.rows) return kNaN;
-  const float* q = P.ptr<float>(y) + 3 * x;
-  if (!std::isfinite(q[2])) return kNaN;
-  const Eigen::Vector3d& n = in.plane->normal;
-  return static_cast<float>(n.x() * q[0] + n.y() * q[1] + n.z() * q[2] + in.plane->distance);
+  // the pixel's own depth, else the nearest in its column within kHeightSearch rows (a LiDAR's
+  // scan lines leave rows between them empty); filled road points are no measurement
+  for (int k = 0; k <= kHeightSearch; ++k) {
+    for (int yy : {y + k, y - k}) {
+      if (yy < 0 || yy >= P.rows || (k == 0 && yy != y)) continue;
+      if (in.filled != nullptr && in.filled->at<uint8_t>(yy, x) != 0) continue;
+      const float* q = P.ptr<float>(yy) + 3 * x;
+      if (!std::isfinite(q[2])) continue;
+      const Eigen::Vector3d& n = in.plane->normal;
+      return static_cast<float>(n.x() * q[0] + n.y() * q[1] + n.z() * q[2] + in.plane->distance);
+    }
+  }
+  return kNaN;
 }
 
 void BoundaryClassifier::addBand(int a, int b, float base, bool open, int W) {
@@ -469,7 +490,8 @@ bool BoundaryClassifier::edgeInRow(const ClassifierInput& in, int v, double u, d
 void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                   bool left, const Params& p, BoundaryEvidence& ev) {
   ev = BoundaryEvidence();
-  for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_})
+  for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_,
+                  &pair_step_, &pair_raise_})
     v->clear();
   if (in.plane == nullptr || !in.plane->valid || !in.frame.valid) {
     ev.reason = "no plane";
@@ -529,6 +551,10 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
       const float ho = heightAt(in, m.u0 + m.outer_dir * k, m.v);
       if (std::isfinite(hi)) inner_h_.push_back(hi);
       if (std::isfinite(ho)) outer_h_.push_back(ho);
+      // the same row's steps, against the road on the vehicle's side: a tilted or offset plane
+      // cancels out, and noisy depth shows no step in most rows
+      if (std::isfinite(hi) && std::isfinite(ho)) pair_step_.push_back(ho - hi);
+      if (std::isfinite(hi) && std::isfinite(hl)) pair_raise_.push_back(hl - hi);
     }
   }
   ev.paint_rows = paint_rows;
@@ -560,18 +586,25 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     ev.reason = "above the road";
     return;
   }
-  // 2. a height step: the surface beyond the line is raised (kerb), or the line itself is
+  // 2. a height step: the surface beyond the line is raised (kerb), or the line itself is;
+  // row by row against the road on the vehicle's side of it, in most rows where both are
+  // measured (a plane a few centimetres off, or noisy far depth, raises nothing); without such
+  // pairs, the sides' medians against the plane
+  const float kerb = static_cast<float>(p.kerb_height);
   const float inner = std::isfinite(ev.inner_height) ? ev.inner_height : 0.0f;
-  const float step_h =
-      std::isfinite(ev.outer_height) ? ev.outer_height - inner : kNaN;
-  const bool raised_line = std::isfinite(ev.line_height) && ev.line_height >= p.kerb_height;
-  if ((std::isfinite(step_h) && step_h >= p.kerb_height && step_h <= kObjectHeight * 2) ||
-      raised_line) {
+  float step_h = kNaN, raise_h = kNaN;
+  if (!stepInMostRows(pair_step_, kerb, step_h) && std::isfinite(ev.outer_height))
+    step_h = ev.outer_height - inner;
+  if (!stepInMostRows(pair_raise_, kerb, raise_h) && std::isfinite(ev.line_height))
+    raise_h = ev.line_height - inner;
+  ev.step_height = step_h;
+  if ((std::isfinite(step_h) && step_h >= kerb && step_h <= kObjectHeight * 2) ||
+      (std::isfinite(raise_h) && raise_h >= kerb)) {
     ev.boundary = true;
     ev.kind = BoundaryKind::kRoadEdge;
     ev.reason = "height step";
-    const float h = std::isfinite(step_h) ? step_h : ev.line_height;
-    ev.margin = std::min(1.0f, static_cast<float>(h / (2.0 * p.kerb_height)));
+    const float h = std::isfinite(step_h) && step_h >= kerb ? step_h : raise_h;
+    ev.margin = std::min(1.0f, h / (2.0f * kerb));
     return;
   }
   // 3. a bright band on a flat road: paint, unless its resolved width says a rail head (too

@@ -212,11 +212,11 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   timings_.preprocess = msSince(t);
   computePoints(frame);         // 2. organised 3D points
   timings_.points = msSince(t);
-  computeResponses();           // 3.-5. normals and G, template matching, R
+  fitRoadSurface();             // 3. the road plane from depth, extended where depth is missing
+  timings_.road = msSince(t);   //    (improved mode)
+  computeResponses();           // 4.-6. normals and G, template matching, R
   computeAcquisitionResponses();
   msSince(t);
-  fitRoadSurface();             // 6. the road plane from depth (improved mode)
-  timings_.road = msSince(t);
   for (int side = 0; side < 2; ++side) {  // 7. seeds, PCA angles and traces of each side's lines
     candidate_count_[side] = 0;
     findCandidates(side, side == 0 ? response_left_ : response_right_);
@@ -333,6 +333,7 @@ void LaneDetector::computeAcquisitionResponses() {
 
 void LaneDetector::fitRoadSurface() {
   road_.valid = false;
+  road_filled_valid_ = false;
   if (params_.plane_fit != PlaneFit::kRoadSurface) return;
   RoadSurfaceSettings s;
   s.up = Eigen::Vector3d(params_.up_x, params_.up_y, params_.up_z);
@@ -346,7 +347,14 @@ void LaneDetector::fitRoadSurface() {
   const double sx = static_cast<double>(proc_size_.width) / input_size_.width;
   s.far_columns =
       RoadSurface::corridorColumns(proc_K_.fx * sx, (proc_K_.cx + 0.5) * sx - 0.5, s.fit_range);
-  road_surface_.fit(points_, roi_rows_, s, fitter_.previousPlane(), road_);
+  if (!road_surface_.fit(points_, roi_rows_, s, fitter_.previousPlane(), road_)) return;
+  // LiDAR and stereo often see nothing near the car: where a column's nearest depth is road, the
+  // road continues toward the camera (its points give seeds there a road's normal and depth)
+  const int h = params_.normal_window / 2;
+  fillFromRoadPlane(points_, cv::Range(roi_rows_.start, std::min(proc_size_.height, roi_rows_.end + h)),
+                    proc_K_, road_, s.inlier_distance, road_surface_.noiseGrowth(), road_filled_,
+                    col_map_, row_map_);
+  road_filled_valid_ = true;
 }
 
 void LaneDetector::findCandidates(int side, cv::Mat& R) {
@@ -371,7 +379,9 @@ void LaneDetector::findCandidates(int side, cv::Mat& R) {
     const bool traceable = value > params_.trace_threshold;
     if (traceable && offRoad(peak)) {
       // road_gate: a best match on a surface that is not road is removed from R for good
-      R(cv::Rect(peak.x - half, peak.y - half, 2 * half + 1, 2 * half + 1) & roi_).setTo(0);
+      const cv::Rect box = cv::Rect(peak.x - half, peak.y - half, 2 * half + 1, 2 * half + 1) & roi_;
+      for (int y = box.y; y < box.y + box.height; ++y)  // (cv::Mat::setTo allocates)
+        std::fill_n(R.ptr<float>(y) + box.x, box.width, 0.f);
       continue;
     }
     if (!traceable && count > first) break;
@@ -450,9 +460,14 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
       BoundaryCandidate& c = candidates_[side][k];
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
       // a painted line: on the paint's centre, row by row, and as far as it goes
-      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint)
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
                                params_.max_depth);
+        // a trace where depth is missing (near the car) told its kind by colour alone: the line
+        // followed into the depth tells it again (a kerb's bright top is no paint)
+        if (!std::isfinite(c.evidence.line_height))
+          classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+      }
       // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
       // rail: its head is it)
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
@@ -471,6 +486,7 @@ const ClassifierInput& LaneDetector::classifierInput(const Frame& frame,
   in.grey_rows = grey_input_rows_;
   in.K = frame.intrinsics;
   in.points = &points_;
+  in.filled = road_filled_valid_ ? &road_filled_ : nullptr;
   in.scale_x = static_cast<double>(proc_size_.width) / input_size_.width;
   in.scale_y = static_cast<double>(proc_size_.height) / input_size_.height;
   in.plane = &plane;

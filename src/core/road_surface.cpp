@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -328,6 +329,45 @@ bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
   measureValidRange(s, n, d);
   plane.range = valid_range_;
   return true;
+}
+
+int fillFromRoadPlane(cv::Mat& points, const cv::Range& rows, const Intrinsics& K,
+                      const PlaneEstimate& plane, double band0, double growth, cv::Mat& filled,
+                      const cv::Mat& col_map, const cv::Mat& row_map) {
+  filled.create(points.size(), CV_8UC1);
+  for (int y = 0; y < filled.rows; ++y)  // (cv::Mat::setTo allocates)
+    std::memset(filled.ptr<uint8_t>(y), 0, filled.cols);
+  if (!plane.valid || points.type() != CV_32FC3) return 0;
+  const int r0 = std::max(rows.start, 0);
+  const int r1 = std::min(rows.end, points.rows);
+  const Eigen::Vector3d& n = plane.normal;
+  const double d = plane.distance;
+  const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
+  const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
+  int count = 0;
+  for (int x = 0; x < points.cols; ++x) {
+    // the nearest (lowest) pixel with depth in this column
+    int y = r1 - 1;
+    while (y >= r0 && std::isnan(points.at<cv::Vec3f>(y, x)[2])) --y;
+    if (y < r0 || y == r1 - 1) continue;  // no depth at all, or nothing missing below it
+    const cv::Vec3f& q = points.at<cv::Vec3f>(y, x);
+    const double z = q[2];
+    if (!(std::fabs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2] + d) <= band0 + growth * z * z))
+      continue;  // not road: nothing to extend
+    const double rx = ((cm ? cm[x] : x) - K.cx) / K.fx;
+    for (int v = y + 1; v < r1; ++v) {
+      const double ry = ((rm ? rm[v] : v) - K.cy) / K.fy;
+      const double den = n.x() * rx + n.y() * ry + n.z();
+      if (!(den < -1e-9)) continue;  // the ray misses the road plane
+      cv::Vec3f& p = points.at<cv::Vec3f>(v, x);
+      if (!std::isnan(p[2])) continue;
+      const double t = -d / den;
+      p = cv::Vec3f(static_cast<float>(rx * t), static_cast<float>(ry * t), static_cast<float>(t));
+      filled.at<uint8_t>(v, x) = 255;
+      ++count;
+    }
+  }
+  return count;
 }
 
 }  // namespace rgbd_lane_detector

@@ -133,6 +133,44 @@ TEST(RoadSurface, NoDepthNearTheCar) {
   EXPECT_NEAR(plane.distance, scene.height, 0.005);
 }
 
+TEST(RoadSurface, FillFromRoadPlaneExtendsOnlyARoadSeenToContinue) {
+  // no depth in the bottom quarter; a car 2-5 m ahead on the left, its back in the hole, hides
+  // the road in some columns
+  Scene scene;
+  scene.boxes = {{-2.5, -0.8, 2.0, 5.0, 1.5}};
+  const int hole_row = kH * 3 / 4;
+  scene.hole = [hole_row](int, int v) { return v > hole_row; };
+  cv::Mat pts = scene.render();
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(pts, kRows, settings(), PlaneEstimate(), plane));
+  cv::Mat filled;
+  const int count = fillFromRoadPlane(pts, kRows, kK, plane, 0.04, 0.0015, filled);
+  EXPECT_GT(count, 0);
+  EXPECT_EQ(cv::countNonZero(filled), count);
+  const cv::Mat truth = Scene().render();  // the road without holes or the car
+  int checked = 0;
+  for (int v = hole_row + 1; v < kH; ++v) {
+    for (int u = 0; u < kW; ++u) {
+      const cv::Vec3f& p = pts.at<cv::Vec3f>(v, u);
+      if (filled.at<uint8_t>(v, u) == 0) {
+        EXPECT_TRUE(std::isnan(p[2])) << u << "," << v;  // left alone: still no depth
+        continue;
+      }
+      const cv::Vec3f& t = truth.at<cv::Vec3f>(v, u);
+      EXPECT_NEAR(p[2], t[2], 0.01 * t[2]) << u << "," << v;  // where the road is
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, kW * (kH - hole_row - 1) / 2);
+  // the columns whose nearest depth is the car's back are not extended
+  const int car_column = static_cast<int>(kK.cx + kK.fx * -1.6 / 2.0);
+  EXPECT_EQ(filled.at<uint8_t>(kH - 1, car_column), 0);
+  // without a plane: nothing
+  EXPECT_EQ(fillFromRoadPlane(pts, kRows, kK, PlaneEstimate(), 0.04, 0.0015, filled), 0);
+  EXPECT_EQ(cv::countNonZero(filled), 0);
+}
+
 TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
   Scene scene;
   scene.noise = 0.02;

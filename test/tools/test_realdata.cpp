@@ -10,6 +10,7 @@
 
 #include "rgbd_lane_detector/lane_detector.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
+#include "rgbd_lane_detector_tools/dataset/real_variants.h"
 #include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/real_labels.h"
 
@@ -30,8 +31,9 @@ std::vector<tools::LabelledFrame> labels() {
   return l;
 }
 
-// Run the improved mode on every labelled frame of a dataset with a depth source; false when the
-// data is absent.
+// Run the improved mode on every labelled frame of a dataset with a depth source, as recorded
+// and in the stress variants (mirrored: a left-hand kerb; no depth in the bottom 30% of the
+// rows); skipped when the data is absent.
 void scoreDataset(const std::string& dataset, const std::string& depth) {
   const fs::path dir = fs::path(realdata()) / dataset;
   if (!fs::is_directory(dir))
@@ -45,39 +47,48 @@ void scoreDataset(const std::string& dataset, const std::string& depth) {
   ASSERT_TRUE(reader) << error;
   LaneDetector detector(Params::improved());
   Result result;
-  tools::DatasetFrame frame;
+  tools::DatasetFrame recorded;
   int scored = 0;
-  while (reader->next(frame)) {
-    const tools::LabelledFrame* label = tools::findRealLabel(all, dataset, frame.name);
-    if (!label) continue;
-    SCOPED_TRACE(dataset + "/" + frame.name + " with " + frame.depth_source + " depth");
-    detector.reset();
-    ASSERT_EQ(detector.detect(frame.toFrame(), result), Status::kOk);
-    Eigen::Vector3d n(0, -1, 0);
-    double d = 0.0;
-    if (label->lane) {  // the labels are placed on the LiDAR's road plane
-      cv::Mat ref;
-      double scale = 1.0;
-      frame.referenceDepth(ref, scale);
-      std::vector<Eigen::Vector3d> pts;
-      tools::regionPoints(ref, scale, frame.intrinsics,
-                          tools::roadCheckRegion(ref.size(), frame.intrinsics), 40.0, pts);
-      ASSERT_TRUE(tools::ransacPlane(pts, 0.05, n, d));
+  while (reader->next(recorded)) {
+    const tools::LabelledFrame* recorded_label = tools::findRealLabel(all, dataset, recorded.name);
+    if (!recorded_label) continue;
+    for (const tools::RealVariant variant : tools::allRealVariants()) {
+      tools::DatasetFrame frame = recorded;
+      tools::LabelledFrame variant_label = *recorded_label;
+      tools::applyRealVariant(variant, frame, variant_label);
+      const tools::LabelledFrame* label = &variant_label;
+      SCOPED_TRACE(dataset + "/" + frame.name + " with " + frame.depth_source + " depth, " +
+                   tools::realVariantName(variant));
+      detector.reset();
+      ASSERT_EQ(detector.detect(frame.toFrame(), result), Status::kOk);
+      Eigen::Vector3d n(0, -1, 0);
+      double d = 0.0;
+      if (label->lane) {  // the labels are placed on the LiDAR's road plane
+        cv::Mat ref;
+        double scale = 1.0;
+        frame.referenceDepth(ref, scale);
+        std::vector<Eigen::Vector3d> pts;
+        tools::regionPoints(ref, scale, frame.intrinsics,
+                            tools::roadCheckRegion(ref.size(), frame.intrinsics), 40.0, pts);
+        ASSERT_TRUE(tools::ransacPlane(pts, 0.05, n, d));
+      }
+      const tools::RealFrameScore s = tools::scoreRealFrame(result, *label, frame.intrinsics, n, d);
+      for (const auto* side : {&s.left, &s.right}) {
+        EXPECT_FALSE(side->wrong) << (side == &s.left ? "left" : "right") << ": " << side->inliers
+                                  << " of " << side->points << " points on the line, kind "
+                                  << boundaryKindName(side->reported_kind);
+        EXPECT_FALSE(side->missed) << (side == &s.left ? "left" : "right");
+      }
+      // the road plane, markers or not, where the road is visible
+      if (label->lane) {
+        ASSERT_TRUE(result.plane.valid);
+        EXPECT_LT(std::acos(std::min(1.0, std::fabs(n.dot(result.plane.normal)))) * 180.0 / M_PI,
+                  1.5);
+        EXPECT_NEAR(result.plane.distance, d,
+                    variant == tools::RealVariant::kNoNearDepth ? 0.15 : 0.05);
+      }
+      ++scored;
     }
-    const tools::RealFrameScore s = tools::scoreRealFrame(result, *label, frame.intrinsics, n, d);
-    for (const auto* side : {&s.left, &s.right}) {
-      EXPECT_FALSE(side->wrong) << (side == &s.left ? "left" : "right") << ": "
-                                << side->inliers << " of " << side->points
-                                << " points on the line, kind " << boundaryKindName(side->reported_kind);
-      EXPECT_FALSE(side->missed) << (side == &s.left ? "left" : "right");
-    }
-    // the road plane, markers or not, where the road is visible
-    if (label->lane) {
-      ASSERT_TRUE(result.plane.valid);
-      EXPECT_LT(std::acos(std::min(1.0, std::fabs(n.dot(result.plane.normal)))) * 180.0 / M_PI, 1.5);
-      EXPECT_NEAR(result.plane.distance, d, 0.05);
-    }
-    ++scored;
   }
   EXPECT_GT(scored, 0) << "no labelled frame of " << dataset << " was read";
 }
@@ -118,11 +129,61 @@ TEST(RealData, MalformedLabelsAreRefused) {
   fs::remove(p);
 }
 
-TEST(RealData, KittiWithLidarDepth) { scoreDataset("kitti2015", "dataset"); }
-TEST(RealData, KittiWithStereoDepth) { scoreDataset("kitti2015", "sgbm"); }
-TEST(RealData, StreetWithoutMarkingsWithLidarDepth) { scoreDataset("kitti_stereo_negative", "dataset"); }
-TEST(RealData, StreetWithoutMarkingsWithStereoDepth) { scoreDataset("kitti_stereo_negative", "sgbm"); }
-TEST(RealData, OfficeWithKinectDepth) { scoreDataset("tum_office", "dataset"); }
+TEST(RealData, VariantsMirrorTheStreetAndRemoveTheNearDepth) {
+  tools::DatasetFrame f;
+  f.colour = cv::Mat(10, 20, CV_8UC3, cv::Scalar(0, 0, 0));
+  f.colour.at<cv::Vec3b>(2, 3) = cv::Vec3b(255, 255, 255);
+  f.depth = cv::Mat(10, 20, CV_16UC1, cv::Scalar(1000));
+  f.lidar_depth = f.depth;  // the same buffer, as the LiDAR reader gives it
+  f.intrinsics = Intrinsics{10.0, 10.0, 8.0, 5.0};
+  tools::LabelledFrame label;
+  label.lane = true;
+  label.left.present = true;
+  label.left.points = {cv::Point2d(3.0, 9.0), cv::Point2d(6.0, 5.0)};
+  label.right.present = true;
+  label.right.kind = BoundaryKind::kRoadEdge;
+  label.right.points = {cv::Point2d(15.0, 9.0)};
+
+  tools::DatasetFrame m = f;
+  tools::LabelledFrame ml = label;
+  tools::applyRealVariant(tools::RealVariant::kMirrored, m, ml);
+  EXPECT_EQ(m.colour.at<cv::Vec3b>(2, 20 - 1 - 3), cv::Vec3b(255, 255, 255));
+  EXPECT_DOUBLE_EQ(m.intrinsics.cx, 19.0 - 8.0);
+  ASSERT_TRUE(ml.left.present && ml.right.present);
+  EXPECT_EQ(ml.left.kind, BoundaryKind::kRoadEdge);  // the kerb is on the left now
+  EXPECT_DOUBLE_EQ(ml.left.points[0].x, 19.0 - 15.0);
+  EXPECT_DOUBLE_EQ(ml.right.points[1].x, 19.0 - 6.0);
+  EXPECT_EQ(f.colour.at<cv::Vec3b>(2, 3), cv::Vec3b(255, 255, 255));  // the original is kept
+
+  tools::DatasetFrame n = f;
+  tools::LabelledFrame nl = label;
+  tools::applyRealVariant(tools::RealVariant::kNoNearDepth, n, nl);
+  EXPECT_EQ(cv::countNonZero(n.depth.rowRange(7, 10)), 0);  // bottom 30% of 10 rows
+  EXPECT_EQ(cv::countNonZero(n.depth.rowRange(0, 7)), 7 * 20);
+  EXPECT_EQ(cv::countNonZero(n.lidar_depth), 10 * 20);  // the LiDAR reference is kept
+  EXPECT_EQ(nl.left.points[0].x, 3.0);
+
+  tools::RealVariant v;
+  EXPECT_TRUE(tools::realVariantFromName("no_near_depth", v));
+  EXPECT_EQ(v, tools::RealVariant::kNoNearDepth);
+  EXPECT_FALSE(tools::realVariantFromName("upside_down", v));
+}
+
+TEST(RealData, KittiWithLidarDepth) {
+  scoreDataset("kitti2015", "dataset");
+}
+TEST(RealData, KittiWithStereoDepth) {
+  scoreDataset("kitti2015", "sgbm");
+}
+TEST(RealData, StreetWithoutMarkingsWithLidarDepth) {
+  scoreDataset("kitti_stereo_negative", "dataset");
+}
+TEST(RealData, StreetWithoutMarkingsWithStereoDepth) {
+  scoreDataset("kitti_stereo_negative", "sgbm");
+}
+TEST(RealData, OfficeWithKinectDepth) {
+  scoreDataset("tum_office", "dataset");
+}
 
 }  // namespace
 }  // namespace rgbd_lane_detector

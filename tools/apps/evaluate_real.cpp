@@ -1,7 +1,8 @@
 // evaluate_real: score the lane detector on the hand-labelled real frames of ../shared/realdata
 // (test/data/realdata_labels.yaml) with each depth source the data offers (KITTI: the LiDAR and
-// StereoSGBM on the colour pair), and compare each road plane with a RANSAC plane of the LiDAR's
-// road points. Writes a Markdown table, a CSV and the overlays of every frame.
+// StereoSGBM on the colour pair), each also mirrored and without depth near the car
+// (real_variants.h), and compare each road plane with a RANSAC plane of the LiDAR's road points.
+// Writes a Markdown table, a CSV and the overlays of every frame.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector_tools/command_line.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
+#include "rgbd_lane_detector_tools/dataset/real_variants.h"
 #include "rgbd_lane_detector_tools/detector_setup.h"
 #include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/real_labels.h"
@@ -27,7 +29,8 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Row {
-  std::string dataset, frame, depth, mode;
+  std::string dataset, frame, depth, variant, mode;
+  tools::LabelledFrame label;  ///< as the variant sees it
   bool lane = false;
   tools::RealFrameScore score;
   bool plane = false;
@@ -61,7 +64,7 @@ std::string fmt(double v, const char* f = "%.2f") {
 
 int main(int argc, char** argv) {
   std::string labels_path, realdata, markdown, csv, images;
-  std::vector<std::string> modes_list, depths_list;
+  std::vector<std::string> modes_list, depths_list, variants_list;
   tools::CommandLine cl(
       "evaluate_real",
       "Score the detector on the hand-labelled real frames (each side right when >= 80% of its\n"
@@ -74,6 +77,10 @@ int main(int argc, char** argv) {
   cl.add("mode", "detector mode to score (repeatable; default improved)", &modes_list);
   cl.add("depth", "depth source for stereo datasets: dataset, sgbm (repeatable; default both)",
          &depths_list);
+  cl.add("variant",
+         "frame variant: as_is, mirrored (left-right), no_near_depth (no depth in the bottom 30% "
+         "of the rows) (repeatable; default all)",
+         &variants_list);
   cl.add("markdown", "write the table here", &markdown);
   cl.add("csv", "write one line per frame, depth and mode here", &csv);
   cl.add("images", "write the overlays (real_<dataset>_<frame>_<depth>_<mode>.png) here", &images);
@@ -86,6 +93,16 @@ int main(int argc, char** argv) {
   }
   if (modes_list.empty()) modes_list = {"improved"};
   if (depths_list.empty()) depths_list = {"dataset", "sgbm"};
+  std::vector<tools::RealVariant> variants;
+  for (const std::string& name : variants_list) {
+    tools::RealVariant v;
+    if (!tools::realVariantFromName(name, v)) {
+      std::cerr << "evaluate_real: unknown variant " << name << "\n";
+      return 2;
+    }
+    variants.push_back(v);
+  }
+  if (variants.empty()) variants = tools::allRealVariants();
   std::string error;
   std::vector<tools::LabelledFrame> labels;
   if (!tools::readRealLabels(labels_path, labels, error)) {
@@ -140,14 +157,20 @@ int main(int argc, char** argv) {
         }
         LaneDetector detector(params);
         Result result;
-        for (const tools::DatasetFrame& f : frames) {
-          const tools::LabelledFrame* label = tools::findRealLabel(labels, ds, f.name);
+        for (size_t run = 0; run < variants.size() * frames.size(); ++run) {  // every variant
+          const tools::RealVariant variant = variants[run / frames.size()];   // of every frame
+          tools::DatasetFrame f = frames[run % frames.size()];
+          tools::LabelledFrame variant_label = *tools::findRealLabel(labels, ds, f.name);
+          tools::applyRealVariant(variant, f, variant_label);
+          const tools::LabelledFrame* label = &variant_label;
           detector.reset();  // unrelated snapshots
           detector.detect(f.toFrame(), result);
           Row row;
           row.dataset = ds;
           row.frame = f.name;
           row.depth = f.depth_source;
+          row.variant = tools::realVariantName(variant);
+          row.label = variant_label;
           row.mode = mode;
           row.lane = label->lane;
           row.ms = result.timings.total;
@@ -183,8 +206,11 @@ int main(int argc, char** argv) {
                 cv::line(overlay, s->points[i - 1], s->points[i], cv::Scalar(255, 255, 255), 1,
                          cv::LINE_AA);
             }
-            const std::string name =
-                "real_" + ds + "_" + f.name + "_" + f.depth_source + "_" + mode + ".jpg";
+            const std::string name = "real_" + ds + "_" + f.name + "_" + f.depth_source +
+                                     (variant == tools::RealVariant::kAsIs
+                                          ? std::string()
+                                          : std::string("_") + row.variant) +
+                                     "_" + mode + ".jpg";
             cv::imwrite((fs::path(images) / name).string(), overlay,
                         {cv::IMWRITE_JPEG_QUALITY, 85});
           }
@@ -195,16 +221,17 @@ int main(int argc, char** argv) {
 
   // Markdown table
   std::ostringstream md;
-  md << "| data | frame | depth | mode | left (label / reported) | left | right (label / reported) "
-        "| right | plane vs LiDAR (deg / m) |\n";
-  md << "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  md << "| data | frame | depth | variant | mode | left (label / reported) | left | right (label / "
+        "reported) | right | plane vs LiDAR (deg / m) |\n";
+  md << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   int sides_labelled = 0, sides_right = 0, sides_wrong = 0, negatives = 0, negatives_clean = 0;
   for (const Row& r : rows) {
-    const tools::LabelledFrame* label = tools::findRealLabel(labels, r.dataset, r.frame);
+    const tools::LabelledFrame* label = &r.label;
     const tools::LabelledSide none;
     const tools::LabelledSide& ll = label->lane ? label->left : none;
     const tools::LabelledSide& lr = label->lane ? label->right : none;
-    md << "| " << r.dataset << " | " << r.frame << " | " << r.depth << " | " << r.mode << " | "
+    md << "| " << r.dataset << " | " << r.frame << " | " << r.depth << " | " << r.variant << " | "
+       << r.mode << " | "
        << kindText(r.score.left, ll) << " | " << sideText(r.score.left) << " | "
        << kindText(r.score.right, lr) << " | " << sideText(r.score.right) << " | "
        << (r.plane ? fmt(r.plane_angle) + " / " + fmt(r.plane_offset, "%.3f") : "no plane")
@@ -226,11 +253,12 @@ int main(int argc, char** argv) {
   if (!markdown.empty()) std::ofstream(markdown) << md.str();
   if (!csv.empty()) {
     std::ofstream out(csv);
-    out << "dataset,frame,depth,mode,lane,left_labelled,left_reported,left_kind,left_fraction,"
+    out << "dataset,frame,depth,variant,mode,lane,left_labelled,left_reported,left_kind,left_fraction,"
            "left_correct,right_labelled,right_reported,right_kind,right_fraction,right_correct,"
            "plane,plane_angle_deg,plane_offset_m,ms\n";
     for (const Row& r : rows) {
-      out << r.dataset << "," << r.frame << "," << r.depth << "," << r.mode << "," << r.lane;
+      out << r.dataset << "," << r.frame << "," << r.depth << "," << r.variant << "," << r.mode
+          << "," << r.lane;
       for (const tools::RealSideScore* s : {&r.score.left, &r.score.right})
         out << "," << s->labelled << "," << s->reported << ","
             << (s->reported ? boundaryKindName(s->reported_kind) : "") << "," << fmt(s->fraction)

@@ -1,0 +1,80 @@
+#include "rgbd_lane_detector_tools/dataset/real_variants.h"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace rgbd_lane_detector {
+namespace tools {
+namespace {
+
+constexpr double kNearRowsShare = 0.3;  // bottom share of the rows without depth
+
+// A flipped copy (the source may share its buffer with another member of the frame).
+cv::Mat flipped(const cv::Mat& m) {
+  cv::Mat out;
+  if (!m.empty()) cv::flip(m, out, 1);
+  return out;
+}
+
+}  // namespace
+
+const std::vector<RealVariant>& allRealVariants() {
+  static const std::vector<RealVariant> all = {RealVariant::kAsIs, RealVariant::kMirrored,
+                                               RealVariant::kNoNearDepth};
+  return all;
+}
+
+const char* realVariantName(RealVariant v) {
+  switch (v) {
+    case RealVariant::kAsIs:
+      return "as_is";
+    case RealVariant::kMirrored:
+      return "mirrored";
+    case RealVariant::kNoNearDepth:
+      return "no_near_depth";
+  }
+  return "unknown";
+}
+
+bool realVariantFromName(const std::string& name, RealVariant& v) {
+  for (RealVariant c : allRealVariants()) {
+    if (name == realVariantName(c)) {
+      v = c;
+      return true;
+    }
+  }
+  return false;
+}
+
+void applyRealVariant(RealVariant v, DatasetFrame& frame, LabelledFrame& label) {
+  switch (v) {
+    case RealVariant::kAsIs:
+      return;
+    case RealVariant::kMirrored: {
+      const int width = frame.colour.cols;
+      frame.colour = flipped(frame.colour);
+      frame.depth = flipped(frame.depth);
+      frame.lidar_depth = flipped(frame.lidar_depth);
+      frame.intrinsics.cx = width - 1 - frame.intrinsics.cx;
+      for (LabelledSide* s : {&label.left, &label.right})
+        for (cv::Point2d& p : s->points) p.x = width - 1 - p.x;
+      std::swap(label.left, label.right);
+      return;
+    }
+    case RealVariant::kNoNearDepth: {
+      cv::Mat depth = frame.depth.clone();  // may be the LiDAR reference's buffer
+      const int first = static_cast<int>(std::lround((1.0 - kNearRowsShare) * depth.rows));
+      cv::Mat rows = depth.rowRange(first, depth.rows);
+      if (depth.type() == CV_32FC1)
+        rows.setTo(std::numeric_limits<float>::quiet_NaN());
+      else
+        rows.setTo(0);
+      frame.depth = depth;
+      return;
+    }
+  }
+}
+
+}  // namespace tools
+}  // namespace rgbd_lane_detector
