@@ -11,7 +11,6 @@
 #include "rgbd_lane_detector/lane_detector.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 #include "rgbd_lane_detector_tools/dataset/real_variants.h"
-#include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/real_labels.h"
 
 namespace rgbd_lane_detector {
@@ -63,15 +62,7 @@ void scoreDataset(const std::string& dataset, const std::string& depth) {
       ASSERT_EQ(detector.detect(frame.toFrame(), result), Status::kOk);
       Eigen::Vector3d n(0, -1, 0);
       double d = 0.0;
-      if (label->lane) {  // the labels are placed on the LiDAR's road plane
-        cv::Mat ref;
-        double scale = 1.0;
-        frame.referenceDepth(ref, scale);
-        std::vector<Eigen::Vector3d> pts;
-        tools::regionPoints(ref, scale, frame.intrinsics,
-                            tools::roadCheckRegion(ref.size(), frame.intrinsics), 40.0, pts);
-        ASSERT_TRUE(tools::ransacPlane(pts, 0.05, n, d));
-      }
+      if (label->lane) ASSERT_TRUE(frame.referenceRoadPlane(n, d));  // the labels' plane
       const tools::RealFrameScore s = tools::scoreRealFrame(result, *label, frame.intrinsics, n, d);
       for (const auto* side : {&s.left, &s.right}) {
         EXPECT_FALSE(side->wrong) << (side == &s.left ? "left" : "right") << ": " << side->inliers

@@ -20,7 +20,6 @@
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 #include "rgbd_lane_detector_tools/dataset/real_variants.h"
 #include "rgbd_lane_detector_tools/detector_setup.h"
-#include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/real_labels.h"
 
 using namespace rgbd_lane_detector;
@@ -175,15 +174,9 @@ int main(int argc, char** argv) {
           row.lane = label->lane;
           row.ms = result.timings.total;
           // reference plane: RANSAC on the LiDAR (or the sensor's) road points
-          cv::Mat ref;
-          double ref_scale = 1.0;
-          f.referenceDepth(ref, ref_scale);
-          std::vector<Eigen::Vector3d> pts;
-          tools::regionPoints(ref, ref_scale, f.intrinsics,
-                              tools::roadCheckRegion(ref.size(), f.intrinsics), 40.0, pts);
           Eigen::Vector3d n(0, -1, 0);
           double d = 0.0;
-          const bool have_ref = tools::ransacPlane(pts, 0.05, n, d);
+          const bool have_ref = f.referenceRoadPlane(n, d);
           if (label->lane && !have_ref) {
             std::cerr << "evaluate_real: no reference road plane for " << ds << "/" << f.name
                       << ": its labels cannot be placed\n";

@@ -287,14 +287,8 @@ int main(int argc, char** argv) {
     int n = 0;
     while (reader->next(f)) {
       const tools::FrameTruth* t = truth.find(f.index);
-      std::vector<Eigen::Vector3d> region;
-      if (in.kind == Input::kKitti) {
-        cv::Mat reference;  // the LiDAR, also when the detector gets SGBM depth
-        double scale;
-        f.referenceDepth(reference, scale);
-        tools::regionPoints(reference, scale, f.intrinsics,
-                            tools::roadCheckRegion(reference.size(), f.intrinsics), 40.0, region);
-      }
+      std::vector<Eigen::Vector3d> region;  // the LiDAR, also when the detector gets SGBM depth
+      if (in.kind == Input::kKitti) f.referenceRoadPoints(region);
       for (size_t m = 0; m < modes.size(); ++m) {
         if (reader->independentFrames()) detectors[m]->reset();
         detectors[m]->detect(f.toFrame(), r);

@@ -38,11 +38,7 @@ struct PlaneCheckTotals {
 std::string checkPlane(const tools::DatasetFrame& f, const Result& r, PlaneCheckTotals& t) {
   if (!r.plane.valid) return "\"plane_check\": null";
   std::vector<Eigen::Vector3d> pts;
-  cv::Mat reference;
-  double scale;
-  f.referenceDepth(reference, scale);
-  const cv::Rect region = tools::roadCheckRegion(reference.size(), f.intrinsics);
-  tools::regionPoints(reference, scale, f.intrinsics, region, 40.0, pts);
+  f.referenceRoadPoints(pts);
   const tools::PlaneResiduals res = tools::planeResiduals(pts, r.plane.normal, r.plane.distance);
   std::string out = "\"plane_check\": {\"points\": " + std::to_string(res.points) +
                     ", \"mean_abs\": " + tools::jsonNumber(res.mean_abs) +

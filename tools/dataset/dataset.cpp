@@ -1,4 +1,5 @@
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
+#include "rgbd_lane_detector_tools/plane_check.h"
 
 #include <algorithm>
 #include <cctype>
@@ -35,6 +36,20 @@ void DatasetFrame::referenceDepth(cv::Mat& reference, double& scale) const {
   const bool lidar = !lidar_depth.empty();
   reference = lidar ? lidar_depth : depth;
   scale = lidar ? lidar_depth_scale : depth_scale;
+}
+
+void DatasetFrame::referenceRoadPoints(std::vector<Eigen::Vector3d>& points) const {
+  cv::Mat reference;
+  double scale = 1.0;
+  referenceDepth(reference, scale);
+  regionPoints(reference, scale, intrinsics, roadCheckRegion(reference.size(), intrinsics), 40.0,
+               points);
+}
+
+bool DatasetFrame::referenceRoadPlane(Eigen::Vector3d& normal, double& distance) const {
+  std::vector<Eigen::Vector3d> points;
+  referenceRoadPoints(points);
+  return ransacPlane(points, 0.05, normal, distance);
 }
 
 std::string detectDatasetType(const std::string& path) {

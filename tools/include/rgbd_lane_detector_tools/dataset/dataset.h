@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/types.h"
@@ -50,6 +51,18 @@ struct DatasetFrame {
    * @param[out] scale metres per unit of a CV_16UC1 @p depth.
    */
   void referenceDepth(cv::Mat& depth, double& scale) const;
+  /**
+   * @brief The measured road: the reference depth's points (referenceDepth()) in the road check
+   * region (plane_check.h: below the horizon, the central columns), up to 40 m.
+   * @param[out] points optical-frame points (cleared first).
+   */
+  void referenceRoadPoints(std::vector<Eigen::Vector3d>& points) const;
+  /**
+   * @brief RANSAC plane (5 cm inliers) of referenceRoadPoints(): the plane a detected road plane
+   * and hand labels are checked against.
+   * @return false when the depth shows no plane there.
+   */
+  bool referenceRoadPlane(Eigen::Vector3d& normal, double& distance) const;
 };
 
 /// How to open a dataset.
