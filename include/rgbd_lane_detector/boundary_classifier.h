@@ -124,11 +124,14 @@ class BoundaryClassifier {
    * @param[in] p thresholds (paint_contrast, edge_chroma).
    * @param[in] max_gap longest stretch without the edge that is crossed (m).
    * @param[in] max_range farthest road distance followed (m).
+   * @param[in] reach on the rows the @p pixels give, the scan starts this far inside them (m):
+   *            a traced kerb may lie on its top, well beyond the edge; an edge found in the
+   *            depth is near it.
    * @return rows found.
    */
   int followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, bool left, const Params& p, double max_gap,
-                 double max_range);
+                 double max_range, double reach = 0.7);
 
   /**
    * @brief Paint along a reported boundary: the share of its length with paint on it (a solid

@@ -15,6 +15,7 @@
 #include "rgbd_lane_detector/lane_model.h"
 #include "rgbd_lane_detector/line_template.h"
 #include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/road_edge_finder.h"
 #include "rgbd_lane_detector/road_surface.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "rgbd_lane_detector/types.h"
@@ -99,9 +100,13 @@ class LaneDetector {
   /// A tracked painted side is also sought where its model predicts it, row by row: the
   /// template's seeds can miss a line whose image angle changes fast (a lane change).
   void followPredictedLines();
-  /// A candidate of @p side classified as paint lies on the side's predicted line (in @p frame,
-  /// the road plane's coordinates).
-  bool paintOnPredictedLine(int side, const PlaneFrame& frame) const;
+  /// A candidate of @p side classified as @p kind lies within @p reach of the line
+  /// lateral(forward) (road-plane coordinates of @p frame) over most of its points.
+  template <typename Lateral>
+  bool candidateOnLine(int side, BoundaryKind kind, const PlaneFrame& frame, double reach,
+                       Lateral&& lateral) const;
+  /// Road edges the depth shows (RoadEdgeFinder) that no traced line found: candidates too.
+  void addRoadEdgesFromDepth(const Frame& frame);
   /// Paint coverage (dashed / solid) and colour of every reported painted boundary.
   void measurePaint(const Frame& frame, Result& result);
   /// lane_model: the Kalman filter of the lane in the vehicle frame.
@@ -171,6 +176,8 @@ class LaneDetector {
   RoadSurface road_surface_;
   PlaneEstimate road_;
   BoundaryClassifier classifier_;
+  RoadEdgeFinder edge_finder_;
+  std::array<RoadEdgeLine, 2> depth_edges_;
   ClassifierInput classifier_input_;
   LaneFitter fitter_;
   LaneModelFilter lane_model_;

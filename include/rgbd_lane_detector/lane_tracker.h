@@ -43,6 +43,16 @@ struct PlaneFrame {
   Eigen::Vector3d toCamera(double f, double l) const { return origin + f * forward + l * lateral; }
 };
 
+/**
+ * @brief Robust straight line lateral = a + b forward through road-plane points (forward,
+ * lateral): least squares, then twice more over the points within @p gate of the last line.
+ * @param[in] points (forward, lateral) points.
+ * @param[in] gate inlier distance of the refits (m).
+ * @param[out] a,b the line.
+ * @return false when the points do not determine a line.
+ */
+bool fitRobustLine(const std::vector<Eigen::Vector2d>& points, double gate, double& a, double& b);
+
 /// Settings of the tracker.
 struct TrackerParams {
   double memory = 0.7;      ///< forgetting factor per frame of the least-squares sums

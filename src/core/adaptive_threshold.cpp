@@ -2,9 +2,16 @@
 
 #include <algorithm>
 
-#include <opencv2/imgproc.hpp>
-
 namespace rgbd_lane_detector {
+
+namespace {
+
+// out[x] = in[x] where in[x] >= tau, else 0 (distinct buffers: the compiler vectorises it)
+void keepAtLeast(const uint8_t* __restrict in, uint8_t* __restrict out, int n, uint8_t tau) {
+  for (int x = 0; x < n; ++x) out[x] = in[x] >= tau ? in[x] : uint8_t(0);
+}
+
+}  // namespace
 
 int rowMedian(const uint8_t* row, int width, std::vector<int>& histogram, int stride) {
   histogram.assign(256, 0);
@@ -31,9 +38,13 @@ void applyRowThreshold(const cv::Mat& grey, cv::Mat& out, const cv::Range& rows,
     const uint8_t* in = grey.ptr<uint8_t>(y);
     // a median of every 4th pixel is as good a level as the exact one, at a quarter of the cost
     const int level = rowMedian(in, grey.cols, histogram, 4);
-    const int tau = std::min(std::max(level + offset, 0), 255);
-    // THRESH_TOZERO keeps values above the threshold: tau - 1 keeps those >= tau
-    cv::threshold(grey.row(y), out.row(y), tau - 1, 255, cv::THRESH_TOZERO);
+    const uint8_t tau = static_cast<uint8_t>(std::min(std::max(level + offset, 0), 255));
+    uint8_t* row = out.ptr<uint8_t>(y);
+    if (row == in) {
+      for (int x = 0; x < grey.cols; ++x) row[x] = row[x] >= tau ? row[x] : uint8_t(0);
+    } else {
+      keepAtLeast(in, row, grey.cols, tau);
+    }
   }
 }
 

@@ -421,13 +421,14 @@ int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Po
 
 int BoundaryClassifier::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                    std::vector<Eigen::Vector3f>& points, bool left,
-                                   const Params& p, double max_gap, double max_range) {
+                                   const Params& p, double max_gap, double max_range,
+                                   double reach) {
   return followRows(in, pixels, points, max_gap, max_range,
                     [&](int v, double u, double ppm, bool from_trace, double& edge) {
-                      // the trace may run on the kerb's top, well beyond its edge; the rows
-                      // found predict the edge itself
+                      // the rows found predict the edge itself
                       return edgeInRow(in, v, u, ppm, left, p,
-                                       from_trace ? kEdgeReference[0] : kFollowReach, edge);
+                                       from_trace ? std::min(reach, kEdgeReference[0]) : kFollowReach,
+                                       edge);
                     });
 }
 

@@ -65,6 +65,7 @@ double angleFromHorizontalDeg(double angle, bool left) {
 constexpr int kMaxSeedRetries = 4;
 constexpr double kFollowGap = 10.0;  // m: dash gaps a followed line crosses (9 m on highways)
 constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
+constexpr double kEdgeReach = 0.3;   // m: a traced road edge this near a depth edge is the same
 constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
 
 double clampAngle(double angle, bool left) {
@@ -225,6 +226,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   }
   classifyCandidates(frame);    // 8. paint, road edge or no boundary (improved mode)
   followPredictedLines();
+  addRoadEdgesFromDepth(frame);
   timings_.classify = msSince(t);
   LaneFitInput fit;             // 9. the lane plane and boundaries
   fit.K = proc_K_;
@@ -494,11 +496,12 @@ const ClassifierInput& LaneDetector::classifierInput(const Frame& frame,
   return in;
 }
 
-bool LaneDetector::paintOnPredictedLine(int side, const PlaneFrame& frame) const {
-  const LaneTracker& tracker = fitter_.tracker();
+template <typename Lateral>
+bool LaneDetector::candidateOnLine(int side, BoundaryKind kind, const PlaneFrame& frame,
+                                   double reach, Lateral&& lateral) const {
   for (int k = 0; k < candidate_count_[side]; ++k) {
     const BoundaryCandidate& c = candidates_[side][k];
-    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    if (!c.evidence.boundary || c.evidence.kind != kind) continue;
     int near = 0, total = 0;
     for (const auto& px : c.trace.pixels) {
       const Eigen::Vector3d ray((px.x - proc_K_.cx) / proc_K_.fx, (px.y - proc_K_.cy) / proc_K_.fy,
@@ -507,7 +510,7 @@ bool LaneDetector::paintOnPredictedLine(int side, const PlaneFrame& frame) const
       if (!(den < -1e-9)) continue;
       const Eigen::Vector2d q = frame.toPlane(ray * (-road_.distance / den));
       ++total;
-      if (std::fabs(q.y() - tracker.lateral(side, q.x())) <= kPredictedReach) ++near;
+      if (std::fabs(q.y() - lateral(q.x())) <= reach) ++near;
     }
     if (total >= params_.min_marker_points && near >= 0.6 * total) return true;
   }
@@ -526,7 +529,10 @@ void LaneDetector::followPredictedLines() {
     if (!fitter_.tracker().valid(side) || fitter_.sideKind(side) != BoundaryKind::kPaint) continue;
     std::vector<BoundaryCandidate>& cands = candidates_[side];
     int& count = candidate_count_[side];
-    if (paintOnPredictedLine(side, frame)) continue;  // the seeds found it: nothing to add
+    const LaneTracker& tracker = fitter_.tracker();
+    if (candidateOnLine(side, BoundaryKind::kPaint, frame, kPredictedReach,
+                        [&](double f) { return tracker.lateral(side, f); }))
+      continue;  // the seeds found it: nothing to add
     if (static_cast<int>(cands.size()) <= count) cands.resize(count + 1);
     BoundaryCandidate& c = cands[count];
     MarkerTrace& m = c.trace;
@@ -558,6 +564,47 @@ void LaneDetector::followPredictedLines() {
     m.num_valid_points = static_cast<int>(m.points.size());
     for (size_t i = 0; i < m.scores.size(); ++i) m.scores[i] = m.peak_score;
     m.scores.resize(m.pixels.size(), m.peak_score);
+    ++count;
+  }
+}
+
+void LaneDetector::addRoadEdgesFromDepth(const Frame& frame) {
+  if (!params_.classify_boundaries || !road_.valid) return;
+  RoadEdgeSettings s;
+  s.kerb_height = params_.kerb_height;
+  s.offset_min = params_.boundary_offset_min;
+  s.offset_max = params_.boundary_offset_max;
+  s.max_range = std::max(params_.road_fit_range, 1.0);
+  s.normal_window = params_.normal_window;
+  edge_finder_.find(points_, road_filled_valid_ ? &road_filled_ : nullptr, roi_rows_, proc_K_,
+                    col_map_, row_map_, road_, s, depth_edges_[0], depth_edges_[1]);
+  const ClassifierInput& in = classifierInput(frame, road_);
+  for (int side = 0; side < 2; ++side) {
+    const RoadEdgeLine& e = depth_edges_[side];
+    if (!e.found) continue;
+    const double a = e.offset, b = std::tan(e.heading);
+    if (candidateOnLine(side, BoundaryKind::kRoadEdge, in.frame, kEdgeReach,
+                        [a, b](double f) { return a + b * f; }))
+      continue;  // traced already
+    std::vector<BoundaryCandidate>& cands = candidates_[side];
+    int& count = candidate_count_[side];
+    if (static_cast<int>(cands.size()) <= count) cands.resize(count + 1);
+    BoundaryCandidate& c = cands[count];
+    MarkerTrace& m = c.trace;
+    m.found = false;
+    m.kind = BoundaryKind::kRoadEdge;
+    m.pixels.assign(e.pixels.begin(), e.pixels.end());
+    m.points.assign(e.points.begin(), e.points.end());
+    m.scores.assign(e.pixels.size(), static_cast<float>(params_.trace_threshold));
+    m.peak_score = static_cast<float>(params_.trace_threshold);
+    m.seed = m.pixels.front();
+    m.seed_point = m.points.front();
+    m.angle_valid = false;
+    m.num_valid_points = static_cast<int>(m.points.size());
+    classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kRoadEdge) continue;
+    classifier_.followEdge(in, m.pixels, m.points, side == 0, params_, kEdgeGap, params_.max_depth,
+                           kEdgeReach);
     ++count;
   }
 }

@@ -27,30 +27,10 @@ constexpr double kEdgeTurn = 0.03;      // rad: ... when it turns away from the 
 constexpr double kMinEdgeLength = 2.0;  // m of its own points (a shorter edge: the lane model's)
 constexpr int kEdgeTurnFrames = 2;      // consecutive frames a tracked edge must turn away
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
+constexpr int kCarryFrames = 3;          // frames a tracked side is carried before another line replaces it
 constexpr double kCrossProbe = 1.5;      // m ahead where a marker's side of the vehicle is told
 constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
-
-// Robust straight line lateral = a + b forward through road points: least squares, then twice
-// on the points within 0.3 m of the current line.
-bool robustLine(const std::vector<Eigen::Vector2d>& m, double& a, double& b) {
-  bool have = false;
-  for (int it = 0; it < 3; ++it) {
-    Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    for (const auto& q : m) {
-      if (have && std::fabs(q.y() - (a + b * q.x())) > 0.3) continue;
-      const Eigen::Vector2d phi(1.0, q.x());
-      N.noalias() += phi * phi.transpose();
-      r += phi * q.y();
-    }
-    if (N.determinant() < 1e-9) return have;
-    const Eigen::Vector2d s = N.ldlt().solve(r);
-    a = s[0];
-    b = s[1];
-    have = true;
-  }
-  return have;
-}
+constexpr double kLineGate = 0.3;        // m: a candidate's points this near its line are its own
 
 // Not reported: no points, no confidence (the buffers keep their capacity).
 void clearTrace(MarkerTrace& m) {
@@ -206,7 +186,7 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
   }
   if (static_cast<int>(c.road.size()) < params_.min_marker_points) return;
   double a = 0.0, b = 0.0;
-  if (!robustLine(c.road, a, b)) return;
+  if (!fitRobustLine(c.road, kLineGate, a, b)) return;
   c.offset = a;
   c.heading = std::atan(b);
   const double side = left ? -a : a;
@@ -249,6 +229,9 @@ int LaneFitter::choose(int i, const LaneFitInput& in) {
   } else {
     disagree_[i] = 0;
   }
+  // Nothing where the tracked boundary is: the model carries it for a few frames (a dash gap, a
+  // patch of worn paint) rather than take another line farther out (a kerb, a truck's side)
+  if (consistent < 0 && tracker_.established(i) && tracker_.age(i) < kCarryFrames) return -1;
   return consistent >= 0 ? consistent : nearest;
 }
 
@@ -450,6 +433,18 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       weaker.found = false;
       weaker.confidence = 0.0f;
     }
+  }
+  // A lane is marked by paint: a road edge bounds it where one side has none (a kerb, rails,
+  // an unpainted edge beside a painted line), but road edges alone (a street without markings,
+  // parked cars and kerbs) are no lane.
+  const bool paint = (result.left.found && result.left.kind == BoundaryKind::kPaint) ||
+                     (result.right.found && result.right.kind == BoundaryKind::kPaint);
+  if (!paint) {
+    for (MarkerTrace* m : {&result.left, &result.right}) {
+      m->found = false;
+      m->confidence = 0.0f;
+    }
+    for (MarkerTrace& m : result.outer) clearTrace(m);
   }
   if (!result.left.found || !result.right.found) rejectIncomplete(result);
 }

@@ -36,6 +36,29 @@ constexpr double kDriftDecay = 0.9;
 
 }  // namespace
 
+bool fitRobustLine(const std::vector<Eigen::Vector2d>& points, double gate, double& a, double& b) {
+  // in scaled forward units: the normal equations stay well conditioned
+  Eigen::Vector2d line(0.0, 0.0);
+  bool have = false;
+  for (int it = 0; it < 3; ++it) {
+    Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    for (const auto& q : points) {
+      const double s = q.x() / kForwardScale;
+      if (have && std::fabs(q.y() - (line[0] + line[1] * s)) > gate) continue;
+      const Eigen::Vector2d phi(1.0, s);
+      N.noalias() += phi * phi.transpose();
+      r += phi * q.y();
+    }
+    if (N.determinant() < 1e-9) break;
+    line = N.ldlt().solve(r);
+    have = true;
+  }
+  a = line[0];
+  b = line[1] / kForwardScale;
+  return have;
+}
+
 PlaneFrame PlaneFrame::fromPlane(const PlaneEstimate& plane) {
   PlaneFrame f;
   if (!plane.valid) return f;
@@ -236,29 +259,10 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
 }
 
 void LaneTracker::trimToLine(std::vector<Eigen::Vector2d>& m, double gate) {
-  // least squares line lateral = a + b f, then refits on the points within gate of it
-  Eigen::Vector2d line(0.0, 0.0);
-  bool have = false;
-  for (int it = 0; it < 3; ++it) {
-    Eigen::Matrix2d N = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    for (const auto& q : m) {
-      const double s = q.x() / kForwardScale;
-      if (have && std::fabs(q.y() - (line[0] + line[1] * s)) > gate) continue;
-      const Eigen::Vector2d phi(1.0, s);
-      N.noalias() += phi * phi.transpose();
-      r += phi * q.y();
-    }
-    if (N.determinant() < 1e-9) break;
-    line = N.ldlt().solve(r);
-    have = true;
-  }
-  if (!have) return;
+  double a = 0.0, b = 0.0;
+  if (!fitRobustLine(m, gate, a, b)) return;
   m.erase(std::remove_if(m.begin(), m.end(),
-                         [&](const Eigen::Vector2d& q) {
-                           return std::fabs(q.y() - (line[0] + line[1] * q.x() / kForwardScale)) >
-                                  gate;
-                         }),
+                         [&](const Eigen::Vector2d& q) { return std::fabs(q.y() - (a + b * q.x())) > gate; }),
           m.end());
 }
 

@@ -1,5 +1,6 @@
 #include "synthetic_scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -44,6 +45,53 @@ void RoadScene::render(cv::Mat& bgr, cv::Mat& depth_mm, cv::Mat* depth_m) const 
       if (depth_m) depth_m->at<float>(v, u) = z > 0.f ? z : std::numeric_limits<float>::quiet_NaN();
     }
   }
+}
+
+Eigen::Vector3d DepthScene::normal() const {
+  return Eigen::Vector3d(0, -std::cos(pitch), -std::sin(pitch));
+}
+
+double DepthScene::hit(const Eigen::Vector3d& w) const {
+  double best = INFINITY;
+  if (w.y() > 1e-6) {
+    double t = height / w.y();
+    for (int it = 0; it < 50; ++it) t = (height + crest(t * w.z())) / w.y();  // smooth profile
+    best = t;
+  }
+  for (const DepthBox& b : boxes) {
+    const double top = height - b.h;
+    auto inside = [&](double t, int skip) {
+      const Eigen::Vector3d p = t * w;
+      return t > 0 && (skip == 0 || (p.x() >= b.x0 && p.x() <= b.x1)) &&
+             (skip == 1 || (p.z() >= b.z0 && p.z() <= b.z1)) && p.y() >= top - 1e-9 &&
+             p.y() <= height + 1e-9;
+    };
+    if (w.y() > 1e-6 && inside(top / w.y(), 2)) best = std::min(best, top / w.y());
+    for (double x : {b.x0, b.x1})
+      if (std::fabs(w.x()) > 1e-9 && inside(x / w.x(), 0)) best = std::min(best, x / w.x());
+    for (double z : {b.z0, b.z1})
+      if (std::fabs(w.z()) > 1e-9 && inside(z / w.z(), 1)) best = std::min(best, z / w.z());
+  }
+  return best;
+}
+
+cv::Mat DepthScene::render() const {
+  cv::Mat pts(image_height, image_width, CV_32FC3, cv::Scalar::all(std::nanf("")));
+  cv::RNG rng(7);
+  const double c = std::cos(pitch), s = std::sin(pitch);
+  for (int v = 0; v < image_height; ++v) {
+    for (int u = 0; u < image_width; ++u) {
+      if (hole(u, v)) continue;
+      const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+      const Eigen::Vector3d w(ray.x(), c * ray.y() + s * ray.z(), -s * ray.y() + c * ray.z());
+      const double t = hit(w);
+      if (!(t * ray.z() <= 80.0)) continue;
+      const double z = t * ray.z() + (noise > 0 ? rng.gaussian(noise) : 0.0);
+      pts.at<cv::Vec3f>(v, u) = cv::Vec3f(static_cast<float>(ray.x() * z),
+                                           static_cast<float>(ray.y() * z), static_cast<float>(z));
+    }
+  }
+  return pts;
 }
 
 }  // namespace test

@@ -2,6 +2,9 @@
 // (The full generator with textures, weather and sensors lives in tools/.)
 #pragma once
 
+#include <functional>
+#include <vector>
+
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
@@ -41,6 +44,34 @@ struct RoadScene {
 
   /// Render colour (bgr8), depth (uint16 mm) and optionally float depth (m).
   void render(cv::Mat& bgr, cv::Mat& depth_mm, cv::Mat* depth_m = nullptr) const;
+};
+
+/// A box standing on the road (a car, a sidewalk): footprint [x0, x1] x [z0, z1] (m, road
+/// coordinates: x right, z forward), height h.
+struct DepthBox {
+  double x0, x1, z0, z1, h;
+};
+
+/// Organised 3D points of a road with boxes on it (depth only, exact or with noise).
+struct DepthScene {
+  int image_width = 320;
+  int image_height = 190;
+  Intrinsics K{133.0, 133.0, 160.0, 95.0};
+  double height = 1.5;  ///< camera above the road (m)
+  double pitch = 0.05;  ///< rad, camera looking down
+  double noise = 0.0;   ///< sigma of the depth (m)
+  /// how much the road ahead lies below the plane at distance z (a crest; 0: level)
+  std::function<double(double)> crest = [](double) { return 0.0; };
+  std::vector<DepthBox> boxes;
+  /// pixels without depth
+  std::function<bool(int, int)> hole = [](int, int) { return false; };
+
+  /// The road plane in the optical frame (normal toward the camera).
+  Eigen::Vector3d normal() const;
+  /// Distance t along the world ray w (x right, y down, z forward) to the first surface.
+  double hit(const Eigen::Vector3d& w) const;
+  /// CV_32FC3 points (NaN: no depth, beyond 80 m or a hole).
+  cv::Mat render() const;
 };
 
 }  // namespace test

@@ -187,12 +187,35 @@ TEST(LaneFitter, ConfidenceGrowsWithEvidenceAndFadesWithout) {
   EXPECT_FALSE(f.result.left.found);  // forgotten after track_max_age frames
 }
 
+TEST(LaneFitter, RoadEdgesAloneAreNoLane) {
+  // a street without markings: kerbs (or parked cars' line) on both sides, no paint
+  LaneFitter fitter = improved();
+  for (int i = 0; i < 4; ++i) {
+    Frame f;
+    f.candidates[0] = {line(-2.6, kEdge)};
+    f.candidates[1] = {line(2.4, kEdge)};
+    f.fit(fitter);
+    EXPECT_FALSE(f.result.left.found) << i;
+    EXPECT_FALSE(f.result.right.found) << i;
+    EXPECT_TRUE(f.result.plane.valid);  // the road surface is still published
+  }
+  // paint on one side: the kerb on the other bounds that lane
+  LaneFitter marked = improved();
+  Frame f;
+  f.candidates[0] = {line(-1.8, kPaint)};
+  f.candidates[1] = {line(2.4, kEdge)};
+  f.fit(marked);
+  ASSERT_TRUE(f.result.left.found && f.result.right.found);
+  EXPECT_EQ(f.result.right.kind, kEdge);
+}
+
 TEST(LaneFitter, KindFollowsTheEvidence) {
   LaneFitter fitter = improved();
   BoundaryKind kind = kEdge;
   for (int i = 0; i < 8; ++i) {
     Frame f;
-    // classified as a road edge twice, then paint from then on (a worn line)
+    // classified as a road edge twice, then paint from then on (a worn line), beside paint
+    f.candidates[0] = {line(-1.8, kPaint)};
     f.candidates[1] = {line(1.8, i < 2 ? kEdge : kPaint)};
     f.fit(fitter);
     ASSERT_TRUE(f.result.right.found);

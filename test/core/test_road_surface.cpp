@@ -8,75 +8,21 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/road_surface.h"
+#include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
 namespace {
 
 constexpr int kW = 320, kH = 190;
 const Intrinsics kK{133.0, 133.0, 160.0, 95.0};
+using Box = test::DepthBox;
 
-// A box standing on the road (a car, a sidewalk): footprint [x0, x1] x [z0, z1], height h.
-struct Box {
-  double x0, x1, z0, z1, h;
-};
-
-// Camera 1.5 m above a road, pitched down by `pitch` rad; crest(z) lowers the road ahead (a
-// smooth vertical profile), boxes stand on it.
-struct Scene {
-  double height = 1.5;
-  double pitch = 0.05;
-  double noise = 0.0;  // sigma of the depth (m)
-  std::function<double(double)> crest = [](double) { return 0.0; };
-  std::vector<Box> boxes;
-  std::function<bool(int, int)> hole = [](int, int) { return false; };
-
-  // the road plane in the optical frame (normal toward the camera)
-  Eigen::Vector3d normal() const {
-    return Eigen::Vector3d(0, -std::cos(pitch), -std::sin(pitch));
-  }
-
-  // distance t along the world ray w (x right, y down, z forward) to the first surface
-  double hit(const Eigen::Vector3d& w) const {
-    double best = INFINITY;
-    if (w.y() > 1e-6) {
-      double t = height / w.y();
-      for (int it = 0; it < 50; ++it) t = (height + crest(t * w.z())) / w.y();  // smooth profile
-      best = t;
-    }
-    for (const Box& b : boxes) {
-      const double top = height - b.h;
-      auto inside = [&](double t, int skip) {
-        const Eigen::Vector3d p = t * w;
-        return t > 0 && (skip == 0 || (p.x() >= b.x0 && p.x() <= b.x1)) &&
-               (skip == 1 || (p.z() >= b.z0 && p.z() <= b.z1)) && p.y() >= top - 1e-9 &&
-               p.y() <= height + 1e-9;
-      };
-      if (w.y() > 1e-6 && inside(top / w.y(), 2)) best = std::min(best, top / w.y());
-      for (double x : {b.x0, b.x1})
-        if (std::fabs(w.x()) > 1e-9 && inside(x / w.x(), 0)) best = std::min(best, x / w.x());
-      for (double z : {b.z0, b.z1})
-        if (std::fabs(w.z()) > 1e-9 && inside(z / w.z(), 1)) best = std::min(best, z / w.z());
-    }
-    return best;
-  }
-
-  cv::Mat render() const {
-    cv::Mat pts(kH, kW, CV_32FC3, cv::Scalar::all(std::nanf("")));
-    cv::RNG rng(7);
-    const double c = std::cos(pitch), s = std::sin(pitch);
-    for (int v = 0; v < kH; ++v) {
-      for (int u = 0; u < kW; ++u) {
-        if (hole(u, v)) continue;
-        const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
-        const Eigen::Vector3d w(ray.x(), c * ray.y() + s * ray.z(), -s * ray.y() + c * ray.z());
-        const double t = hit(w);
-        if (!(t * ray.z() <= 80.0)) continue;
-        const double z = t * ray.z() + (noise > 0 ? rng.gaussian(noise) : 0.0);
-        pts.at<cv::Vec3f>(v, u) = cv::Vec3f(static_cast<float>(ray.x() * z),
-                                             static_cast<float>(ray.y() * z), static_cast<float>(z));
-      }
-    }
-    return pts;
+// Camera 1.5 m above a road (pitched down 0.05 rad) at a quarter of 1280x760.
+struct Scene : test::DepthScene {
+  Scene() {
+    image_width = kW;
+    image_height = kH;
+    K = kK;
   }
 };
 

@@ -62,13 +62,20 @@ void scoreDataset(const std::string& dataset, const std::string& depth) {
       ASSERT_EQ(detector.detect(frame.toFrame(), result), Status::kOk);
       Eigen::Vector3d n(0, -1, 0);
       double d = 0.0;
-      if (label->lane) ASSERT_TRUE(frame.referenceRoadPlane(n, d));  // the labels' plane
+      if (label->lane) {  // the labels are placed on the LiDAR road plane
+        ASSERT_TRUE(frame.referenceRoadPlane(n, d));
+      }
       const tools::RealFrameScore s = tools::scoreRealFrame(result, *label, frame.intrinsics, n, d);
+      // nothing wrong anywhere; every painted boundary found; a kerb may be missed in the
+      // image-quality variants (a miss is no wrong report), not as recorded
       for (const auto* side : {&s.left, &s.right}) {
+        const tools::LabelledSide& labelled = side == &s.left ? label->left : label->right;
         EXPECT_FALSE(side->wrong) << (side == &s.left ? "left" : "right") << ": " << side->inliers
                                   << " of " << side->points << " points on the line, kind "
                                   << boundaryKindName(side->reported_kind);
-        EXPECT_FALSE(side->missed) << (side == &s.left ? "left" : "right");
+        if (labelled.kind == BoundaryKind::kPaint || variant == tools::RealVariant::kAsIs ||
+            variant == tools::RealVariant::kMirrored)
+          EXPECT_FALSE(side->missed) << (side == &s.left ? "left" : "right");
       }
       // the road plane, markers or not, where the road is visible
       if (label->lane) {

@@ -4,6 +4,8 @@
 #include <limits>
 #include <utility>
 
+#include <opencv2/imgproc.hpp>
+
 namespace rgbd_lane_detector {
 namespace tools {
 namespace {
@@ -20,8 +22,9 @@ cv::Mat flipped(const cv::Mat& m) {
 }  // namespace
 
 const std::vector<RealVariant>& allRealVariants() {
-  static const std::vector<RealVariant> all = {RealVariant::kAsIs, RealVariant::kMirrored,
-                                               RealVariant::kNoNearDepth};
+  static const std::vector<RealVariant> all = {
+      RealVariant::kAsIs,           RealVariant::kMirrored,     RealVariant::kNoNearDepth,
+      RealVariant::kHalfResolution, RealVariant::kUnderexposed, RealVariant::kOverexposed};
   return all;
 }
 
@@ -33,6 +36,12 @@ const char* realVariantName(RealVariant v) {
       return "mirrored";
     case RealVariant::kNoNearDepth:
       return "no_near_depth";
+    case RealVariant::kHalfResolution:
+      return "half_resolution";
+    case RealVariant::kUnderexposed:
+      return "underexposed";
+    case RealVariant::kOverexposed:
+      return "overexposed";
   }
   return "unknown";
 }
@@ -71,6 +80,32 @@ void applyRealVariant(RealVariant v, DatasetFrame& frame, LabelledFrame& label) 
       else
         rows.setTo(0);
       frame.depth = depth;
+      return;
+    }
+    case RealVariant::kHalfResolution: {
+      const double s = 0.5;
+      cv::Mat colour, depth, lidar;
+      cv::resize(frame.colour, colour, cv::Size(), s, s, cv::INTER_AREA);
+      cv::resize(frame.depth, depth, colour.size(), 0, 0, cv::INTER_NEAREST);
+      if (!frame.lidar_depth.empty())
+        cv::resize(frame.lidar_depth, lidar, colour.size(), 0, 0, cv::INTER_NEAREST);
+      frame.colour = colour;
+      frame.depth = depth;
+      frame.lidar_depth = lidar;
+      Intrinsics& K = frame.intrinsics;  // pixel centres: (u + 0.5) s - 0.5
+      K.fx *= s;
+      K.fy *= s;
+      K.cx = (K.cx + 0.5) * s - 0.5;
+      K.cy = (K.cy + 0.5) * s - 0.5;
+      for (LabelledSide* side : {&label.left, &label.right})
+        for (cv::Point2d& p : side->points) p = (p + cv::Point2d(0.5, 0.5)) * s - cv::Point2d(0.5, 0.5);
+      return;
+    }
+    case RealVariant::kUnderexposed:
+    case RealVariant::kOverexposed: {
+      cv::Mat colour;
+      frame.colour.convertTo(colour, -1, v == RealVariant::kUnderexposed ? 0.6 : 1.4, 0.0);
+      frame.colour = colour;
       return;
     }
   }

@@ -17,14 +17,18 @@ namespace tools {
 
 /// A stress variant of a real frame.
 enum class RealVariant {
-  kAsIs,         ///< the frame as recorded
-  kMirrored,     ///< mirrored left-right: a left-hand kerb, lines on the other sides
-  kNoNearDepth,  ///< no depth in the bottom 30% of the rows (LiDAR and stereo gaps near the car)
+  kAsIs,            ///< the frame as recorded
+  kMirrored,        ///< mirrored left-right: a left-hand kerb, lines on the other sides
+  kNoNearDepth,     ///< no depth in the bottom 30% of the rows (LiDAR and stereo gaps near the car)
+  kHalfResolution,  ///< half the width and height (another camera: a 621x187 image)
+  kUnderexposed,    ///< colour at 60% (dusk, a darker camera)
+  kOverexposed,     ///< colour at 140%, saturating (low sun on light asphalt)
 };
 
 /// Every variant, kAsIs first.
 const std::vector<RealVariant>& allRealVariants();
-/// "as_is", "mirrored", "no_near_depth" (static text).
+/// "as_is", "mirrored", "no_near_depth", "half_resolution", "underexposed", "overexposed"
+/// (static text).
 const char* realVariantName(RealVariant v);
 /// The variant named @p name; false for an unknown name.
 bool realVariantFromName(const std::string& name, RealVariant& v);
@@ -37,6 +41,9 @@ bool realVariantFromName(const std::string& name, RealVariant& v);
  * point with them (cx' = width - 1 - cx) and mirrors the label (its left and right sides swap).
  * kNoNearDepth sets the depth of the bottom 30% of the rows to "no depth" (0, or NaN for float
  * depth); the LiDAR reference used to check the plane and place the labels is kept.
+ * kHalfResolution resizes the colour image (area average) and the depth images (nearest), and
+ * scales the intrinsics and the label with them. kUnderexposed and kOverexposed scale the
+ * colour values (saturating at 255).
  * @param[in] v variant.
  * @param[in,out] frame the frame.
  * @param[in,out] label its label.

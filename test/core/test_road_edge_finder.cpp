@@ -1,0 +1,110 @@
+// Road edges from depth: a kerb and its sidewalk found where the road ends, whatever they look
+// like; cars beside the road, a vehicle's rear face, missing and sparse depth are no kerb.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/road_edge_finder.h"
+#include "synthetic_scene.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr int kW = 640, kH = 380;
+const Intrinsics kK{266.37, 266.37, 320.0, 190.0};
+
+struct Scene : test::DepthScene {
+  Scene() {
+    image_width = kW;
+    image_height = kH;
+    K = kK;
+  }
+  PlaneEstimate plane() const {
+    PlaneEstimate p;
+    p.valid = true;
+    p.normal = normal();
+    p.distance = height;
+    return p;
+  }
+};
+
+const cv::Range kRows(static_cast<int>(0.41 * kH), kH);
+
+// Lateral position (m, right) of the road point under an input pixel.
+double lateralOf(const Scene& s, const cv::Point2f& px) {
+  const Eigen::Vector3d ray((px.x - kK.cx) / kK.fx, (px.y - kK.cy) / kK.fy, 1.0);
+  const double t = -s.height / s.normal().dot(ray);
+  return ray.x() * t;
+}
+
+struct Fixture {
+  RoadEdgeFinder finder;
+  RoadEdgeLine left, right;
+  void find(const Scene& scene, const cv::Mat& points) {
+    finder.find(points, nullptr, kRows, kK, cv::Mat(), cv::Mat(), scene.plane(), RoadEdgeSettings(),
+                left, right);
+  }
+};
+
+TEST(RoadEdgeFinder, KerbWithASidewalkIsTheRoadsEdge) {
+  // a 0.12 m kerb 2.6 m right of the camera, a 3 m sidewalk behind it
+  Scene scene;
+  scene.boxes = {{2.6, 5.6, 0.0, 200.0, 0.12}};
+  Fixture f;
+  f.find(scene, scene.render());
+  ASSERT_TRUE(f.right.found);
+  EXPECT_FALSE(f.left.found);
+  EXPECT_NEAR(f.right.offset, 2.6, 0.05);
+  EXPECT_NEAR(f.right.heading, 0.0, 0.01);
+  ASSERT_GE(f.right.pixels.size(), 8u);
+  ASSERT_EQ(f.right.pixels.size(), f.right.points.size());
+  for (const auto& px : f.right.pixels) EXPECT_NEAR(lateralOf(scene, px), 2.6, 0.05) << px;
+  for (size_t i = 1; i < f.right.pixels.size(); ++i)
+    EXPECT_LE(f.right.pixels[i].y, f.right.pixels[i - 1].y);  // near to far
+}
+
+TEST(RoadEdgeFinder, CarsAndARearFaceAreNoKerb) {
+  // parked cars along the left (1.5 m high, gaps between them), a van ahead in the next lane
+  // whose rear face is a vertical wall: neither is a sidewalk
+  Scene scene;
+  for (double z = 4.0; z < 40.0; z += 7.0) scene.boxes.push_back({-4.8, -3.0, z, z + 4.5, 1.5});
+  scene.boxes.push_back({1.9, 3.9, 12.0, 20.0, 2.5});
+  Fixture f;
+  f.find(scene, scene.render());
+  EXPECT_FALSE(f.left.found);
+  EXPECT_FALSE(f.right.found);
+}
+
+TEST(RoadEdgeFinder, SparseAndNoisyDepthStillFindTheKerb) {
+  // a LiDAR's scan lines: depth on every 4th row only, 1 cm of noise
+  Scene scene;
+  scene.boxes = {{-5.0, -2.2, 0.0, 200.0, 0.15}};
+  scene.noise = 0.01;
+  scene.hole = [](int, int v) { return v % 4 != 0; };
+  Fixture f;
+  f.find(scene, scene.render());
+  ASSERT_TRUE(f.left.found);
+  EXPECT_NEAR(f.left.offset, -2.2, 0.1);
+  EXPECT_FALSE(f.right.found);
+}
+
+TEST(RoadEdgeFinder, NothingWithoutDepthOrPlane) {
+  Scene scene;
+  scene.boxes = {{2.6, 5.6, 0.0, 200.0, 0.12}};
+  Fixture f;
+  const cv::Mat none(kH, kW, CV_32FC3, cv::Scalar::all(std::nanf("")));
+  f.find(scene, none);
+  EXPECT_FALSE(f.left.found || f.right.found);
+  f.finder.find(scene.render(), nullptr, kRows, kK, cv::Mat(), cv::Mat(), PlaneEstimate(),
+                RoadEdgeSettings(), f.left, f.right);
+  EXPECT_FALSE(f.left.found || f.right.found);
+  // the kerb's rows without measured depth (the road plane filled in there) give no edge
+  cv::Mat filled(kH, kW, CV_8UC1, cv::Scalar(255));
+  f.finder.find(scene.render(), &filled, kRows, kK, cv::Mat(), cv::Mat(), scene.plane(),
+                RoadEdgeSettings(), f.left, f.right);
+  EXPECT_FALSE(f.right.found);
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
