@@ -29,6 +29,7 @@ struct BoundaryCandidate {
   BoundaryEvidence evidence;   ///< kind, or not a boundary
   std::vector<Eigen::Vector2d> road;  ///< (forward, lateral) of its points in the road plane
   double offset = 0.0;         ///< lateral offset of its line at the camera (m, + right)
+  double lateral = 0.0;        ///< median lateral position of its points (m, + right): where it is
   double heading = 0.0;        ///< its direction in the road plane (rad, + toward the right)
   bool usable = false;         ///< a boundary on its side, in range, along the road
 };
@@ -75,7 +76,8 @@ class LaneFitter {
   /**
    * @brief Road-plane geometry of a candidate: its points (depth where the depth lies on the
    * road, else the pixel's ray met with the plane within @p road_range), its offset at the
-   * camera and heading (robust line through them), and whether it can be this side's boundary.
+   * camera and heading (robust line through them), its median lateral position, and whether it
+   * can be this side's boundary.
    * @param[in] frame road coordinates of the plane.
    * @param[in] left side of the candidate.
    * @param[in,out] c candidate (trace and evidence in; road, offset, heading, usable out).
@@ -95,11 +97,11 @@ class LaneFitter {
   void rejectIncomplete(Result& result) const;
   void smoothPlane(PlaneEstimate& plane) const;
   void copyTrace(const MarkerTrace& from, MarkerTrace& to) const;
-  /// Side @p side's road edge seen this frame: the least-squares straight line through its own
-  /// road-plane points @p road (forward, lateral), sampled over their range into @p out (camera
-  /// frame); @p out stays empty unless that line fits them clearly better than the lane model.
-  void edgeLine(int side, const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
-                double step, std::vector<Eigen::Vector3f>& out) const;
+  /// A road edge seen this frame on its own points @p road (forward, lateral): their robust
+  /// quadratic curve over their range, 40 points near to far in @p out (camera frame; empty
+  /// when fewer than 5 points fit it).
+  void measuredEdge(const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+                    std::vector<Eigen::Vector3f>& out) const;
 
   Params params_;
   PlaneEstimate previous_plane_;
@@ -107,13 +109,12 @@ class LaneFitter {
   std::array<float, 2> kind_score_{{0.f, 0.f}};  ///< > 0 paint, < 0 road edge (decaying vote)
   std::array<float, 2> evidence_margin_{{0.f, 0.f}};  ///< classifier margin, smoothed
   std::array<int, 2> disagree_{{0, 0}};        ///< frames a nearer line than the track was seen
-  std::array<int, 2> edge_turns_{{0, 0}};      ///< consecutive frames the road edge turned away
   std::array<double, 2> disagree_offset_{{0.0, 0.0}};  ///< where it was last seen
   std::vector<Eigen::Vector3f> fit_points_;
   std::vector<Eigen::Vector3f> samples_;
   std::array<std::vector<Eigen::Vector3f>, 2> evidence_;
   mutable std::vector<double> width_samples_;
-  mutable std::vector<Eigen::Vector2d> line_points_;
+  mutable std::vector<double> laterals_;
   const std::vector<Eigen::Vector3f> none_;
 };
 

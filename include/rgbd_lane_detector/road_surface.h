@@ -35,7 +35,8 @@ struct RoadSurfaceSettings {
   double noise_growth = 0.0015;   ///< the bound grows by at most this times z^2 (depth noise, 1/m);
                                   ///< the fit measures the depth's own growth and uses that
   double max_range = 80.0;      ///< farthest depth looked at for the valid range (m)
-  int target_samples = 1500;    ///< depth samples drawn from the searched rows (grid)
+  int target_samples = 1500;    ///< depth samples drawn from the searched rows (grid; finer where
+                                ///< the depth is sparse: at least half as many near samples)
   /// Columns of the points whose pixels can lie in the corridor ahead beyond fit_range (from
   /// the intrinsics); every column when empty.
   cv::Range far_columns;
@@ -92,6 +93,9 @@ class RoadSurface {
 
  private:
   void collect(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s);
+  /// near_ and far_ from every @p stride-th pixel of every stride-th row (and the corridor).
+  void collectGrid(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
+                   int stride);
   bool plausible(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
   /// Weighted count of the near samples within the band of (n, d).
   double score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;

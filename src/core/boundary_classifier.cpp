@@ -23,6 +23,7 @@ constexpr double kStepShare = 0.7;           // share of a line's rows that must
 constexpr float kRidgeShare = 0.5f;          // share of measured rows that must show a band
 constexpr int kMinRows = 3;
 constexpr size_t kMaxMeasuredRows = 48;      // rows a classification measures at most
+constexpr size_t kMaxPaintRows = 24;         // rows a paint measurement measures at most
 constexpr int kMinHeights = 3;
 constexpr float kMinContrast = 10.0f;        // grey levels: below this a band is sensor noise
 constexpr double kBandReach = 0.3;           // m: bands this close to the trace belong to it
@@ -675,9 +676,13 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
   double covered = 0.0, total = 0.0;
   yellow_.clear();
   RowMeasure m;
+  // at most kMaxPaintRows points, spread along the boundary, each standing for the stretch
+  // half-way to its measured neighbours
   const size_t n = pixels.size();
-  for (size_t k = 0; k < n; ++k) {
-    const double fa = forward(pixels[k > 0 ? k - 1 : k]), fb = forward(pixels[k + 1 < n ? k + 1 : k]);
+  const size_t stride = (n + kMaxPaintRows - 1) / kMaxPaintRows;
+  for (size_t k = 0; k < n; k += stride) {
+    const double fa = forward(pixels[k >= stride ? k - stride : k]);
+    const double fb = forward(pixels[k + stride < n ? k + stride : k]);
     const double weight = std::isfinite(fa) && std::isfinite(fb) ? 0.5 * std::fabs(fb - fa) : 0.0;
     if (!(weight > 0.0) || !measureRow(in, pixels[k], left, p, cos_heading, m)) continue;
     total += weight;

@@ -601,10 +601,10 @@ void LaneDetector::addRoadEdgesFromDepth(const Frame& frame) {
     m.seed_point = m.points.front();
     m.angle_valid = false;
     m.num_valid_points = static_cast<int>(m.points.size());
+    // (its rows are the depth's own measurement of the edge: not moved by the colours, which a
+    // gutter's leaves or an overexposed kerb mislead)
     classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
     if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kRoadEdge) continue;
-    classifier_.followEdge(in, m.pixels, m.points, side == 0, params_, kEdgeGap, params_.max_depth,
-                           kEdgeReach);
     ++count;
   }
 }
@@ -675,14 +675,22 @@ void LaneDetector::applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat&
   const float max_off = static_cast<float>(params_.plane_gate);
   const float tau = static_cast<float>(
       std::min({params_.tau_g, params_.trace_threshold, params_.pca_threshold}));
+  constexpr int kBlock = 16;
   for (int y = rows.start; y < rows.end; ++y) {
     const float* q = points_.ptr<float>(y);
     float* ml = left.ptr<float>(y);
     float* mr = right.ptr<float>(y);
-    for (int x = 0; x < proc_size_.width; ++x, q += 3) {
-      if (ml[x] < tau && mr[x] < tau) continue;
-      if (std::fabs(pn.x() * q[0] + pn.y() * q[1] + pn.z() * q[2] + pd) > max_off)
-        ml[x] = mr[x] = 0.f;  // NaN (no depth) compares false: kept
+    for (int x0 = 0; x0 < proc_size_.width; x0 += kBlock) {
+      const int x1 = std::min(x0 + kBlock, proc_size_.width);
+      float top = 0.f;  // the block's best match (a max the compiler vectorises)
+      for (int x = x0; x < x1; ++x) top = std::max(top, std::max(ml[x], mr[x]));
+      if (top < tau) continue;
+      for (int x = x0; x < x1; ++x) {
+        if (ml[x] < tau && mr[x] < tau) continue;
+        const float* p = q + 3 * x;
+        if (std::fabs(pn.x() * p[0] + pn.y() * p[1] + pn.z() * p[2] + pd) > max_off)
+          ml[x] = mr[x] = 0.f;  // NaN (no depth) compares false: kept
+      }
     }
   }
 }

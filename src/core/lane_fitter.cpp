@@ -19,13 +19,9 @@ constexpr float kKindMemory = 0.8f;      // decay per frame of a side's kind vot
 constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence of 1 - 1/e
 constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
 constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
-constexpr int kMinEdgePoints = 5;       // own points of a road edge fitted as its own line
-constexpr int kMinEdgeSamples = 10;     // reported points of a road edge's own line: at least,
-constexpr int kMaxEdgeSamples = 40;     // at most,
-constexpr double kEdgeLineInlier = 0.15; // m: a road edge's points this near its line are its own
-constexpr double kEdgeTurn = 0.03;      // rad: ... when it turns away from the lane model by more
-constexpr double kMinEdgeLength = 2.0;  // m of its own points (a shorter edge: the lane model's)
-constexpr int kEdgeTurnFrames = 2;      // consecutive frames a tracked edge must turn away
+constexpr int kMinEdgePoints = 5;       // own points a road edge is reported on
+constexpr int kMaxEdgeSamples = 40;     // reported points of a road edge at most
+constexpr double kEdgeSpike = 0.1;      // m off its robust curve: not the edge
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
 constexpr int kCarryFrames = 3;          // frames a tracked side is carried before another line replaces it
 constexpr double kCrossProbe = 1.5;      // m ahead where a marker's side of the vehicle is told
@@ -52,7 +48,6 @@ void LaneFitter::reset() {
   kind_score_ = {0.f, 0.f};
   evidence_margin_ = {0.f, 0.f};
   disagree_ = {0, 0};
-  edge_turns_ = {0, 0};
 }
 
 void LaneFitter::fit(const LaneFitInput& in, Result& result) {
@@ -159,7 +154,7 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
                          double road_range, bool left, BoundaryCandidate& c) const {
   c.road.clear();
   c.usable = false;
-  c.offset = c.heading = std::numeric_limits<double>::quiet_NaN();
+  c.offset = c.heading = c.lateral = std::numeric_limits<double>::quiet_NaN();
   if (!c.evidence.boundary || !frame.valid) return;
   const bool edge = c.evidence.kind == BoundaryKind::kRoadEdge;
   const MarkerTrace& t = c.trace;
@@ -189,6 +184,12 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
   if (!fitRobustLine(c.road, kLineGate, a, b)) return;
   c.offset = a;
   c.heading = std::atan(b);
+  // where it is: the median lateral position of its own points (the offset extrapolates the
+  // line to the vehicle, and two lines seen at different headings would compare there)
+  laterals_.clear();
+  for (const auto& q : c.road) laterals_.push_back(q.y());
+  std::nth_element(laterals_.begin(), laterals_.begin() + laterals_.size() / 2, laterals_.end());
+  c.lateral = laterals_[laterals_.size() / 2];
   const double side = left ? -a : a;
   c.usable = side >= params_.boundary_offset_min && side <= params_.boundary_offset_max &&
              std::fabs(c.heading) <= kMaxHeading;
@@ -200,14 +201,14 @@ int LaneFitter::choose(int i, const LaneFitInput& in) {
   for (int k = 0; k < in.counts[i]; ++k) {
     const BoundaryCandidate& c = cands[k];
     if (!c.usable) continue;
-    if (nearest < 0 || std::fabs(c.offset) < std::fabs(cands[nearest].offset)) nearest = k;
+    if (nearest < 0 || std::fabs(c.lateral) < std::fabs(cands[nearest].lateral)) nearest = k;
     if (!tracker_.established(i)) continue;
     // agrees with the tracked boundary: most of its points within the gate
     int inliers = 0;
     for (const auto& q : c.road)
       inliers += std::fabs(q.y() - tracker_.lateral(i, q.x())) <= params_.track_gate;
     if (2 * inliers < static_cast<int>(c.road.size())) continue;
-    if (consistent < 0 || std::fabs(c.offset) < std::fabs(cands[consistent].offset))
+    if (consistent < 0 || std::fabs(c.lateral) < std::fabs(cands[consistent].lateral))
       consistent = k;
   }
   // A line nearer the vehicle than the tracked one, seen in the same place kSwitchFrames frames
@@ -215,8 +216,8 @@ int LaneFitter::choose(int i, const LaneFitInput& in) {
   // one; or the track had followed the next lane's line). One frame of it (an arrow, a patch of
   // paint) does not.
   if (consistent >= 0 && nearest >= 0 &&
-      std::fabs(cands[nearest].offset) < std::fabs(cands[consistent].offset) - params_.track_gate) {
-    const double off = cands[nearest].offset;
+      std::fabs(cands[nearest].lateral) < std::fabs(cands[consistent].lateral) - params_.track_gate) {
+    const double off = cands[nearest].lateral;
     disagree_[i] = disagree_[i] > 0 && std::fabs(off - disagree_offset_[i]) <= params_.track_gate
                        ? disagree_[i] + 1
                        : 1;
@@ -319,7 +320,6 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     evidence_margin_[1 - i] = evidence_margin_[i];
     kind_score_[i] = evidence_margin_[i] = 0.f;
     disagree_ = {0, 0};
-    edge_turns_ = {0, 0};
     chosen[1 - i] = chosen[i] >= 0 ? -1 : chosen[1 - i];  // this frame's choice was for the old side
     chosen[i] = -1;
     break;
@@ -353,16 +353,11 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       m.angle_valid = c.trace.angle_valid;
     }
     // reported: the side's model over its evidence's range, within the plane's range; a road
-    // edge seen this frame as its own straight line (a kerb need not run parallel to the paint)
-    // (a tracked edge only when the turn persists: one frame's stray points are no turn)
+    // edge seen this frame where it was seen (a kerb need not run parallel to the paint, nor
+    // be straight: it curves into a corner, it steps at a driveway)
     samples_.clear();
-    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0) {
-      edgeLine(i, (*in.candidates)[i][chosen[i]].road, frame, tp.sample_step, samples_);
-      edge_turns_[i] = samples_.empty() ? 0 : edge_turns_[i] + 1;
-      if (tracker_.frames(i) > 1 && edge_turns_[i] < kEdgeTurnFrames) samples_.clear();
-    } else {
-      edge_turns_[i] = 0;
-    }
+    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0)
+      measuredEdge((*in.candidates)[i][chosen[i]].road, frame, samples_);
     // (a road edge not as far beyond where it was seen as paint: kerbs end at driveways and
     // intersections)
     if (samples_.empty())
@@ -392,16 +387,16 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
   for (int i = 0; i < 2; ++i) {
     if (chosen[i] < 0) continue;
     const std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
-    const double ego = std::fabs(cands[chosen[i]].offset);
+    const double ego = std::fabs(cands[chosen[i]].lateral);
     for (int k = 0; k < in.counts[i]; ++k) {
       const BoundaryCandidate& c = cands[k];
-      if (k == chosen[i] || !c.usable || std::fabs(c.offset) < ego + kNextLaneMin) continue;
+      if (k == chosen[i] || !c.usable || std::fabs(c.lateral) < ego + kNextLaneMin) continue;
       const bool edge = c.evidence.kind == BoundaryKind::kRoadEdge;
       const int slot = edge ? (i == 0 ? kRoadEdgeLeft : kRoadEdgeRight)
                             : (i == 0 ? kNextLeft : kNextRight);
       MarkerTrace& m = result.outer[slot];
-      if (m.found && std::fabs(outer_offset[slot]) <= std::fabs(c.offset)) continue;
-      outer_offset[slot] = c.offset;
+      if (m.found && std::fabs(outer_offset[slot]) <= std::fabs(c.lateral)) continue;
+      outer_offset[slot] = c.lateral;
       m.pixels.clear();
       m.points.clear();
       m.scores.clear();
@@ -524,47 +519,47 @@ void LaneFitter::rejectIncomplete(Result& result) const {
   result.left.confidence = result.right.confidence = 0.0f;
 }
 
-void LaneFitter::edgeLine(int side, const std::vector<Eigen::Vector2d>& road,
-                          const PlaneFrame& frame, double step, std::vector<Eigen::Vector3f>& out) const {
+void LaneFitter::measuredEdge(const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+                              std::vector<Eigen::Vector3f>& out) const {
   out.clear();
-  if (road.size() < static_cast<size_t>(kMinEdgePoints) || !(step > 0.0)) return;
-  // least-squares l = a + b f over the edge's own points (forward f, lateral l), refitted
-  // without the points farther than kEdgeLineInlier from the first fit
-  double a = 0.0, b = 0.0, near = 0.0, far = 0.0;
-  for (int pass = 0; pass < 2; ++pass) {
-    double s1 = 0, sf = 0, sl = 0, sff = 0, sfl = 0;
-    near = std::numeric_limits<double>::infinity();
-    far = -near;
+  if (road.size() < static_cast<size_t>(kMinEdgePoints)) return;
+  // a robust quadratic lateral(forward) of its own points (a kerb curves into a corner): least
+  // squares, then refits on the points within a narrowing band (leaves in the gutter, a drain,
+  // a missing row pull single points or short stretches off the edge)
+  Eigen::Vector3d coef = Eigen::Vector3d::Zero();
+  bool have = false;
+  double near = 0.0, far = 0.0;
+  for (int pass = 0; pass < 4; ++pass) {
+    const double band = pass == 0 ? 1e9 : (pass == 1 ? 2.0 * kEdgeSpike : kEdgeSpike);
+    Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    int used = 0;
+    near = 1e9;
+    far = -1e9;
     for (const auto& q : road) {
-      if (pass == 1 && std::fabs(q.y() - (a + b * q.x())) > kEdgeLineInlier) continue;
-      s1 += 1, sf += q.x(), sl += q.y(), sff += q.x() * q.x(), sfl += q.x() * q.y();
+      if (q.x() < kNearestForward) continue;
+      const double s = q.x() / 20.0;  // scaled: well conditioned
+      const Eigen::Vector3d phi(1.0, s, s * s);
+      if (have && std::fabs(q.y() - coef.dot(phi)) > band) continue;
+      N.noalias() += phi * phi.transpose();
+      r += phi * q.y();
       near = std::min(near, q.x());
       far = std::max(far, q.x());
+      ++used;
     }
-    const double den = s1 * sff - sf * sf;
-    if (s1 < kMinEdgePoints || !(far - near > kMinEdgeLength) || !(std::fabs(den) > 1e-9)) return;
-    b = (s1 * sfl - sf * sl) / den;
-    a = (sl - b * sf) / s1;
+    if (used < kMinEdgePoints) return;
+    N(2, 2) += 1e-6;  // a short edge: the curvature term stays small
+    coef = N.ldlt().solve(r);
+    have = true;
   }
-  // only when it turns away from the lane model significantly (a kerb that leaves the lane;
-  // where they agree the model is steadier): the slopes over the same range differ by more
-  // than kEdgeTurn and three standard errors of the line's slope
-  double s1 = 0, sf = 0, sff = 0, srr = 0;
-  for (const auto& q : road) {
-    const double r = q.y() - (a + b * q.x());
-    if (std::fabs(r) > kEdgeLineInlier) continue;
-    s1 += 1, sf += q.x(), sff += q.x() * q.x(), srr += r * r;
-  }
-  const double spread = sff - sf * sf / s1;  // sum of (f - mean f)^2
-  const double slope_se = std::sqrt(srr / std::max(1.0, s1 - 2.0) / std::max(spread, 1e-9));
-  const double model_slope = (tracker_.lateral(side, far) - tracker_.lateral(side, near)) / (far - near);
-  if (!(std::fabs(b - model_slope) > kEdgeTurn + 3.0 * slope_se)) return;
-  near = std::max(near, 0.5);
-  const int n = std::min(kMaxEdgeSamples,
-                         std::max(kMinEdgeSamples, static_cast<int>(std::ceil((far - near) / step))));
-  for (int k = 0; k < n; ++k) {  // uniform in 1/f, like LaneTracker::sample()
+  // sampled over its inliers' range, uniformly in 1/f (like LaneTracker::sample())
+  near = std::max(near, kNearestForward);
+  if (!(far > near)) return;
+  const int n = kMaxEdgeSamples;
+  for (int k = 0; k < n; ++k) {
     const double f = 1.0 / (1.0 / near + (1.0 / far - 1.0 / near) * k / (n - 1));
-    out.push_back(frame.toCamera(f, a + b * f).cast<float>());
+    const double s = f / 20.0;
+    out.push_back(frame.toCamera(f, coef[0] + coef[1] * s + coef[2] * s * s).cast<float>());
   }
 }
 

@@ -13,11 +13,13 @@ constexpr int kRoadRun = 3;            // road points a row needs inside its edg
 constexpr int kRaisedRun = 3;          // raised points that make the step
 constexpr double kLineGate = 0.15;     // m: a row's edge this near the side's line is on it
 constexpr int kMinRows = 8;            // rows on the line that make an edge
-constexpr double kRowSpacing = 0.2;    // m of road between the rows searched at least
+constexpr double kRowSpacing = 0.25;   // m of road between the rows searched at least
 constexpr double kColumnSpacing = 0.04; // m across the road between the columns searched
 constexpr double kMinLength = 3.0;     // m of road along which they lie
 constexpr double kMaxHeading = 0.35;   // rad: an edge runs along the road
-constexpr float kSidewalkCheck = 0.6f; // m beyond a step that must stay at a sidewalk's height
+constexpr float kSidewalkCheck = 0.3f; // m beyond a step that must stay at a sidewalk's height
+constexpr float kMaxCamber = 0.15f;    // m: road this far below or above the plane (camber)
+constexpr float kCamberGain = 0.3f;    // gain of the road's running height along a row
 constexpr float kLevelNear = 0.15f;    // m beyond a step where its top's normal is read ...
 constexpr float kLevelFar = 0.6f;      // ... at the latest
 constexpr double kLevelAngle = 0.44;   // rad (25 deg): a sidewalk's top is that level at least
@@ -105,21 +107,25 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
     for (int side = 0; side < 2; ++side) {
       const int step = side == 0 ? -stride : stride;
       int road_run = 0, raised_run = 0, last_road = -1, first_raised = -1;
+      // the road's own height along the row: a cambered road falls toward its gutter, and a
+      // kerb rises from the gutter, not from the plane
+      float local = 0.f;
       for (int x = centre; x >= 0 && x < points.cols; x += step) {
         if (fill && fill[x]) continue;  // the plane extended over missing depth: no measurement
         const cv::Vec3f& p = row[x];
         if (std::isnan(p[2])) continue;
-        if (std::fabs(p[0]) > s.offset_max + 1.0) break;  // beyond any lane's edge
+        if (std::fabs(p[0]) > s.offset_max) break;  // beyond any lane's edge
         const float h = n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d;
-        if (h > max_step) break;  // a car's side, a wall: no road edge on this row
-        if (std::fabs(h) <= road_band) {
+        if (h - local > max_step) break;  // a car's side, a wall: no road edge on this row
+        if (std::fabs(h - local) <= road_band && std::fabs(h) <= kMaxCamber) {
           if (raised_run > 0) {  // the raised stretch was not the road's end
             raised_run = 0;
             road_run = 0;
           }
           ++road_run;
           last_road = x;
-        } else if (h >= kerb && road_run >= kRoadRun) {
+          local += kCamberGain * (h - local);
+        } else if (h - local >= kerb && road_run >= kRoadRun) {
           if (raised_run++ == 0) first_raised = x;
           if (raised_run >= kRaisedRun) {
             // the step's foot: half-way between the last road point and the first raised one,
@@ -131,7 +137,7 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
                             frame.toPlane(Eigen::Vector3d(b[0], b[1], b[2])));
             // a sidewalk stays low beyond its kerb, and its top is level; a car's or a truck's
             // side rises, its rear face is vertical
-            if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d, max_step) &&
+            if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local, max_step) &&
                 levelBeyond(points, filled, first_raised, y, step, K, col_map, row_map, plane, s))
               edges_[side].push_back(e);
             break;

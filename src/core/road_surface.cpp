@@ -51,13 +51,24 @@ bool orient(Eigen::Vector3d& n, double& d) {
 
 void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
                           const RoadSurfaceSettings& s) {
+  // a grid of about target_samples pixels; where the depth is sparse (a LiDAR, a gap near the
+  // car) and the grid holds few samples, a finer one
+  const int height = std::max(0, rows.end - rows.start);
+  const double area = static_cast<double>(height) * points.cols;
+  int stride =
+      std::max(1, static_cast<int>(std::lround(std::sqrt(area / std::max(s.target_samples, 1)))));
+  collectGrid(points, rows, s, stride);
+  while (stride > 1 && 2 * near_.size() < static_cast<size_t>(s.target_samples)) {
+    stride = std::max(1, stride / 2);
+    collectGrid(points, rows, s, stride);
+  }
+}
+
+void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
+                              const RoadSurfaceSettings& s, int stride) {
   near_.clear();
   far_.clear();
   near_end_ = 0.0;
-  const int height = std::max(0, rows.end - rows.start);
-  const double area = static_cast<double>(height) * points.cols;
-  const int stride =
-      std::max(1, static_cast<int>(std::lround(std::sqrt(area / std::max(s.target_samples, 1)))));
   const float fit_range = static_cast<float>(s.fit_range);
   const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
   const int centre = points.cols / 2;

@@ -55,7 +55,8 @@ double DepthScene::hit(const Eigen::Vector3d& w) const {
   double best = INFINITY;
   if (w.y() > 1e-6) {
     double t = height / w.y();
-    for (int it = 0; it < 50; ++it) t = (height + crest(t * w.z())) / w.y();  // smooth profile
+    for (int it = 0; it < 50; ++it)  // smooth profiles
+      t = (height + crest(t * w.z()) + camber(t * w.x())) / w.y();
     best = t;
   }
   for (const DepthBox& b : boxes) {

@@ -62,6 +62,8 @@ struct DepthScene {
   double noise = 0.0;   ///< sigma of the depth (m)
   /// how much the road ahead lies below the plane at distance z (a crest; 0: level)
   std::function<double(double)> crest = [](double) { return 0.0; };
+  /// how much the road lies below the plane at lateral position x (camber; 0: flat)
+  std::function<double(double)> camber = [](double) { return 0.0; };
   std::vector<DepthBox> boxes;
   /// pixels without depth
   std::function<bool(int, int)> hole = [](int, int) { return false; };

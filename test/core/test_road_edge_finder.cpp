@@ -64,6 +64,18 @@ TEST(RoadEdgeFinder, KerbWithASidewalkIsTheRoadsEdge) {
     EXPECT_LE(f.right.pixels[i].y, f.right.pixels[i - 1].y);  // near to far
 }
 
+TEST(RoadEdgeFinder, KerbRisesFromACamberedGutter) {
+  // the road falls 8 cm toward its gutter over the last metre before a 0.12 m kerb at 2.5 m, and
+  // shrubs 0.5 m high stand on the sidewalk 0.5 m behind the kerb
+  Scene scene;
+  scene.camber = [](double x) { return x > 1.5 ? 0.08 * std::min(1.0, x - 1.5) : 0.0; };
+  scene.boxes = {{2.5, 6.0, 0.0, 200.0, 0.12 - 0.08}, {3.0, 6.0, 0.0, 200.0, 0.5}};
+  Fixture f;
+  f.find(scene, scene.render());
+  ASSERT_TRUE(f.right.found);
+  for (const auto& px : f.right.pixels) EXPECT_NEAR(lateralOf(scene, px), 2.5, 0.1) << px;
+}
+
 TEST(RoadEdgeFinder, CarsAndARearFaceAreNoKerb) {
   // parked cars along the left (1.5 m high, gaps between them), a van ahead in the next lane
   // whose rear face is a vertical wall: neither is a sidewalk
