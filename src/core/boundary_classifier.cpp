@@ -587,7 +587,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     return den < -1e-9 ? in.frame.toPlane(ray * (-in.plane->distance / den)).x() : NAN;
   };
   double covered = 0.0, total = 0.0;
-  side_.clear();  // yellowness samples
+  yellow_.clear();
   RowMeasure m;
   const size_t n = pixels.size();
   for (size_t k = 0; k < n; ++k) {
@@ -622,10 +622,10 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
       }
     if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;
     const double r = (pr / np) / (ar / na), g = (pg / np) / (ag / na), b = (pb / np) / (ab / na);
-    side_.push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
+    yellow_.push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
   }
   if (total >= kMinCoverageLength) coverage = static_cast<float>(covered / total);
-  if (side_.size() >= 3) yellowness = std::max(0.0f, median(side_));
+  if (yellow_.size() >= 3) yellowness = std::max(0.0f, median(yellow_));
 }
 
 }  // namespace rgbd_lane_detector
