@@ -96,6 +96,11 @@ struct MarkerTrace {
   std::vector<float> scores;          ///< R at each centroid
   std::vector<Eigen::Vector3f> points;///< 3D centroids (optical frame, m); NaN where no depth
   int num_valid_points = 0;           ///< points with finite coordinates
+  /// This frame's own measurement of a tracked side (the chosen line's road points, optical
+  /// frame), before the lane tracker smooths it over frames into @ref points; empty when the
+  /// tracker carries the side without evidence this frame, and without tracking. The lane model
+  /// (LaneModelFilter) is updated from it: a smoothed input would lag a turning vehicle.
+  std::vector<Eigen::Vector3f> measured;
 };
 
 // --- The lane model for planners (LaneModelFilter, lane_model.h) -----------------------------

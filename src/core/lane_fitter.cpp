@@ -59,6 +59,7 @@ void clearTrace(MarkerTrace& m) {
   m.pixels.clear();
   m.points.clear();
   m.scores.clear();
+  m.measured.clear();
   m.num_valid_points = 0;
 }
 
@@ -349,6 +350,9 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       evidence_margin_[i] = 0.f;
       continue;
     }
+    // this frame's chosen line, also where the tracker's gate kept its points out (the tracked
+    // shape lags a turning vehicle): the lane model gates it against its own prediction
+    if (chosen[i] >= 0) m.measured.assign(evidence_[i].begin(), evidence_[i].end());
     if (tracker_.age(i) == 0 && chosen[i] >= 0) {
       // the side's kind: a decaying vote of its classified evidence (a new side starts over)
       const BoundaryCandidate& c = (*in.candidates)[i][chosen[i]];
