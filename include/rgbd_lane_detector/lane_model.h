@@ -14,11 +14,14 @@
  *
  * The filter's state is the ego lane: the lateral position of its centre line at the vehicle
  * y0, its heading psi (the centre line's slope dy/dx = tan psi at x = 0), curvature kappa,
- * curvature rate kappa', width w, and the speed vy at which y0 changes per update (the vehicle
- * drifting or changing lanes; without odometry this carries the model between sightings). Its centre line is y(x) = y0 + tan(psi) x + kappa x^2 / 2 +
- * kappa' x^3 / 6, the ego boundaries are that line +-w/2. Measurements are each frame's
- * boundaries in the vehicle frame, associated with the model by their lateral offset: the ego
- * sides, the next lanes' lines and the road edges. A measurement one lane width from the ego
+ * curvature rate kappa', width w, the speed vy at which y0 changes per update and the rate
+ * omega at which the slope changes per update (the vehicle drifting, turning or changing lanes;
+ * without odometry these carry the model between sightings). Its centre line is y(x) = y0 +
+ * tan(psi) x + kappa x^2 / 2 + kappa' x^3 / 6, the ego boundaries are that line +-w/2.
+ * Measurements are each frame's boundaries in the vehicle frame, each reduced to up to kStations
+ * stations (the median point of each of kStations equal stretches of its x range: robust to a
+ * few stray points, spread along the line whatever the density of its points), associated with
+ * the model by their lateral offset: the ego sides, the next lanes' lines and the road edges. A measurement one lane width from the ego
  * side it would belong to, on the side the vehicle moves to, is a lane change: the model is
  * relabelled (the old right line becomes the new left one) instead of being lost. Measurements
  * farther than the gate from every boundary are ignored; after lost_frames frames without an
@@ -65,7 +68,7 @@ struct LaneModelSettings {
  */
 class LaneModelFilter {
  public:
-  LaneModelFilter() { reset(); }
+  LaneModelFilter();
   /// Forget the model.
   void reset();
   void setSettings(const LaneModelSettings& s) { settings_ = s; }
@@ -87,11 +90,13 @@ class LaneModelFilter {
               const BoundaryObservation* observations, int count, LaneModelEstimate& model);
 
  private:
-  /// y0, slope tan(psi), kappa, kappa', w, and the lane's sideways speed vy (m per update)
-  using State = Eigen::Matrix<double, 6, 1>;
-  using Cov = Eigen::Matrix<double, 6, 6>;
-  using Row = Eigen::Matrix<double, 1, 6>;
-  static constexpr int kStations = 8;  ///< samples kept per observation
+  /// y0, slope tan(psi), kappa, kappa', w, the lane's sideways speed vy (m per update) and the
+  /// rate of its slope omega (per update)
+  using State = Eigen::Matrix<double, 7, 1>;
+  using Cov = Eigen::Matrix<double, 7, 7>;
+  using Row = Eigen::Matrix<double, 1, 7>;
+  static constexpr int kStations = 10;       ///< stations kept per observation
+  static constexpr int kMaxPoints = 2048;    ///< points of an observation used (thinned beyond)
 
   /// One observation in the vehicle frame: up to kStations (x, y) samples, near to far.
   struct Track {
@@ -115,16 +120,24 @@ class LaneModelFilter {
     double residual = 0.0;    ///< smoothed mean |y - prediction| of its observations (m)
   };
 
-  bool project(const Eigen::Isometry3d& T, const BoundaryObservation& o, Track& t) const;
+  /// Reduce observation @p o to the stations of track @p t in the vehicle frame (false: fewer
+  /// than two).
+  bool project(const Eigen::Isometry3d& T, const BoundaryObservation& o, Track& t);
   /// Boundary @p p was seen within the last lost_frames frames.
   bool known(int p) const { return memory_[p].age <= settings_.lost_frames; }
   /// Lateral position of boundary @p p at x (from the state and the memory).
   double predicted(int p, double x) const;
   Row measurementRow(int p, double x) const;
   double measurementVariance(double x) const;
+  /// Drop the stations of @p t off the curve through the others (stray points), worst first.
+  void trimStations(Track& t) const;
+  /// Start the model from this frame's ego observations (tracks_[0, count)), if any.
+  void initialiseFromEgo(int count);
   void initialise(const Track* left, const Track* right);
   void associate(int count);
-  void updateEgo(const Track& t, int p);
+  /// Kalman update of the ego lane with the stations of @p t at ego position @p p.
+  /// @return the stations used (the others were beyond the gate).
+  int updateEgo(const Track& t, int p);
   void updateOuter(const Track& t, int p);
   void remember(const Track& t, int p, double residual);
   void relabel(int direction);
@@ -135,9 +148,11 @@ class LaneModelFilter {
   Cov P_;
   bool initialised_ = false;
   int lost_ = 0;
+  int disagree_ = 0;  ///< consecutive frames with the ego lane seen and none of it used
   int lane_changes_ = 0;
   std::array<Track, 8> tracks_;
   std::array<Memory, kNumBoundaryPositions> memory_;
+  std::vector<Eigen::Vector2d> scratch_;  ///< project(): an observation's points (reserved once)
 };
 
 /**

@@ -9,12 +9,18 @@ namespace {
 constexpr double kNominalWidth = 3.5;   // m: width of a lane whose other side was never seen
 constexpr double kMinForward = 0.5;     // m: nearer points are not used
 constexpr double kQuadraticRange = 12.0;  // m of x-range before a side's curvature is fitted
-// Process noise per update (the lane moves relative to the vehicle).
-constexpr double kQ[6] = {0.02 * 0.02, 0.01 * 0.01, 2e-4 * 2e-4, 1e-5 * 1e-5, 0.02 * 0.02,
-                          0.03 * 0.03};
+constexpr int kN = 7;                   // state size
+// Process noise per update (the lane moves relative to the vehicle): y0, slope, kappa, kappa',
+// w, vy (a lane change accelerates sideways by up to ~0.02 m per frame per frame at 10 fps),
+// omega (its heading rate changes by up to ~2 mrad per frame per frame).
+constexpr double kQ[kN] = {0.02 * 0.02, 0.005 * 0.005, 2e-4 * 2e-4, 1e-5 * 1e-5,
+                           0.02 * 0.02, 0.02 * 0.02,   0.002 * 0.002};
 // Initial standard deviations of a fresh model.
-constexpr double kP0[6] = {0.2, 0.03, 2e-3, 1e-4, 0.3, 0.1};
+constexpr double kP0[kN] = {0.2, 0.03, 2e-3, 1e-4, 0.3, 0.1, 0.01};
+constexpr double kMaxSideways = 0.5;    // m per update: |vy| (a lane change at 10 fps: ~0.2)
+constexpr double kMaxSlopeRate = 0.03;  // per update: |omega| (a lane change: ~0.01)
 constexpr double kStationGate = 3.0;    // sigmas: a station further from the model is skipped
+constexpr int kDisagreeFrames = 3;      // frames the model takes none of the ego lane seen
 constexpr double kNextMin = 1.5;        // m: an outer line at least this far beyond its ego side
 constexpr double kNextMax = 6.0;        // m: ... and at most this far
 constexpr float kMemory = 0.7f;         // per-frame weight of the past in the smoothed evidence
@@ -108,13 +114,19 @@ Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane) {
   return T;
 }
 
+LaneModelFilter::LaneModelFilter() {
+  scratch_.reserve(kMaxPoints);
+  reset();
+}
+
 void LaneModelFilter::reset() {
   x_.setZero();
   x_[4] = kNominalWidth;
   P_.setZero();
-  for (int i = 0; i < 6; ++i) P_(i, i) = kP0[i] * kP0[i];
+  for (int i = 0; i < kN; ++i) P_(i, i) = kP0[i] * kP0[i];
   initialised_ = false;
   lost_ = 0;
+  disagree_ = 0;
   lane_changes_ = 0;
   for (auto& m : memory_) m = Memory();
 }
@@ -153,7 +165,7 @@ double LaneModelFilter::predicted(int p, double x) const {
 
 LaneModelFilter::Row LaneModelFilter::measurementRow(int p, double x) const {
   Row H;
-  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5, 0.0;
+  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5, 0.0, 0.0;
   return H;
 }
 
@@ -163,43 +175,116 @@ double LaneModelFilter::measurementVariance(double x) const {
 }
 
 bool LaneModelFilter::project(const Eigen::Isometry3d& T, const BoundaryObservation& o,
-                              Track& t) const {
+                              Track& t) {
   t.n = 0;
   t.obs = &o;
   t.assigned = -1;
   if (o.points == nullptr) return false;
-  // first and last usable points, then kStations samples spread over the points in between
+  // the usable points in the vehicle frame (x >= kMinForward > 0), sorted by x (evenly thinned
+  // beyond kMaxPoints)
   const std::vector<Eigen::Vector3f>& pts = *o.points;
-  int first = -1, last = -1, usable = 0;
-  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+  const size_t stride = pts.size() / kMaxPoints + 1;
+  scratch_.clear();
+  for (size_t i = 0; i < pts.size(); i += stride) {
     if (!pts[i].allFinite()) continue;
-    const double x = (T * pts[i].cast<double>()).x();
-    if (x < kMinForward || x > settings_.x_max) continue;
-    if (first < 0) first = i;
-    last = i;
-    ++usable;
-  }
-  if (usable < 2) return false;
-  const int want = std::min(kStations, usable);
-  int taken = 0;
-  double prev = -1.0;
-  for (int s = 0; s < want; ++s) {
-    const int i = first + static_cast<int>(std::lround(static_cast<double>(s) * (last - first) /
-                                                       std::max(1, want - 1)));
-    if (i < 0 || i >= static_cast<int>(pts.size()) || !pts[i].allFinite()) continue;
     const Eigen::Vector3d q = T * pts[i].cast<double>();
-    if (q.x() < kMinForward || q.x() > settings_.x_max || q.x() == prev) continue;
-    prev = q.x();
-    t.xy[taken++] = Eigen::Vector2d(q.x(), q.y());
+    if (q.x() < kMinForward || q.x() > settings_.x_max) continue;
+    scratch_.emplace_back(q.x(), q.y());
   }
-  t.n = taken;
-  if (t.n < 2) return false;
-  t.x_min = t.x_max = t.xy[0].x();
-  for (int i = 1; i < t.n; ++i) {
-    t.x_min = std::min(t.x_min, t.xy[i].x());
-    t.x_max = std::max(t.x_max, t.xy[i].x());
+  if (scratch_.size() < 2) return false;
+  std::sort(scratch_.begin(), scratch_.end(),
+            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+  t.x_min = scratch_.front().x();
+  t.x_max = scratch_.back().x();
+  // one station per stretch of log x (as the camera sees the road: a pixel's lateral extent
+  // grows with x): its point of median y (a point of the line itself, near the middle of the
+  // stretch where the line is monotonic over it; a few stray points do not move it)
+  const double ratio = std::pow(t.x_max / t.x_min, 1.0 / kStations);
+  auto first = scratch_.begin();
+  double end = t.x_min;
+  for (int s = 0; s < kStations && first != scratch_.end(); ++s) {
+    end *= ratio;
+    auto last = s + 1 == kStations ? scratch_.end()
+                                   : std::find_if(first, scratch_.end(),
+                                                  [end](const Eigen::Vector2d& q) { return q.x() >= end; });
+    if (last == first) continue;
+    const auto mid = first + (last - first) / 2;
+    std::nth_element(first, mid, last, [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return a.y() < b.y();
+    });
+    t.xy[t.n++] = *mid;
+    first = last;
   }
-  return true;
+  trimStations(t);
+  return t.n >= 2;
+}
+
+void LaneModelFilter::trimStations(Track& t) const {
+  // A station off the curve through the others (a cluster of stray points the trace picked up)
+  // is dropped: of the lines (quadratics over a long range) through every two (three) stations,
+  // the one with the most stations within kStationGate sigmas, then the least spread, keeps
+  // those.
+  if (t.n < 3) return;
+  const bool quadratic = t.xy[t.n - 1].x() - t.xy[0].x() >= kQuadraticRange && t.n >= 4;
+  double sigma[kStations];
+  for (int i = 0; i < t.n; ++i) sigma[i] = std::sqrt(measurementVariance(t.xy[i].x()));
+  int best_count = 0;
+  double best_cost = 0.0;
+  Eigen::Vector3d best(0.0, 0.0, 0.0);
+  auto consider = [&](const Eigen::Vector3d& c) {
+    int count = 0;
+    double cost = 0.0;
+    for (int i = 0; i < t.n; ++i) {
+      const double x = t.xy[i].x();
+      const double r = std::fabs(t.xy[i].y() - (c[0] + x * (c[1] + x * c[2]))) / sigma[i];
+      count += r <= kStationGate;
+      cost += std::min(r, kStationGate) * std::min(r, kStationGate);
+    }
+    if (count > best_count || (count == best_count && cost < best_cost)) {
+      best_count = count;
+      best_cost = cost;
+      best = c;
+    }
+  };
+  for (int i = 0; i < t.n; ++i)
+    for (int j = i + 1; j < t.n; ++j) {
+      const Eigen::Vector2d& a = t.xy[i];
+      const Eigen::Vector2d& b = t.xy[j];
+      if (!quadratic) {
+        const double slope = (b.y() - a.y()) / (b.x() - a.x());
+        consider(Eigen::Vector3d(a.y() - slope * a.x(), slope, 0.0));
+        continue;
+      }
+      for (int k = j + 1; k < t.n; ++k) {
+        const Eigen::Vector2d& q = t.xy[k];
+        Eigen::Matrix3d V;
+        V << 1.0, a.x(), a.x() * a.x(), 1.0, b.x(), b.x() * b.x(), 1.0, q.x(), q.x() * q.x();
+        const Eigen::Vector3d c = V.partialPivLu().solve(Eigen::Vector3d(a.y(), b.y(), q.y()));
+        if (c.allFinite()) consider(c);
+      }
+    }
+  if (best_count < 2 || best_count == t.n) return;
+  const double x_first = t.xy[0].x(), x_last = t.xy[t.n - 1].x();
+  int kept = 0;
+  for (int i = 0; i < t.n; ++i) {
+    const double x = t.xy[i].x();
+    if (std::fabs(t.xy[i].y() - (best[0] + x * (best[1] + x * best[2]))) <= kStationGate * sigma[i])
+      t.xy[kept++] = t.xy[i];
+  }
+  t.n = kept;
+  // the range shrinks to the stations when an end station went
+  if (t.xy[0].x() != x_first) t.x_min = t.xy[0].x();
+  if (t.xy[t.n - 1].x() != x_last) t.x_max = t.xy[t.n - 1].x();
+}
+
+void LaneModelFilter::initialiseFromEgo(int count) {
+  const Track *left = nullptr, *right = nullptr;
+  for (int k = 0; k < count; ++k) {
+    const Track& t = tracks_[k];
+    if (t.n < 2 || !t.obs->ego) continue;
+    (t.obs->left ? left : right) = &t;
+  }
+  if (left || right) initialise(left, right);
 }
 
 void LaneModelFilter::initialise(const Track* left, const Track* right) {
@@ -213,7 +298,7 @@ void LaneModelFilter::initialise(const Track* left, const Track* right) {
   if (have[0] && have[1]) {
     const double w = a[0] - a[1];
     if (w >= settings_.width_min && w <= settings_.width_max) {
-      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w, 0.0;
+      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w, 0.0, 0.0;
       P_(4, 4) = 0.1 * 0.1;
       initialised_ = true;
       return;
@@ -225,7 +310,7 @@ void LaneModelFilter::initialise(const Track* left, const Track* right) {
   for (int i = 0; i < 2; ++i) {
     if (!have[i]) continue;
     const double half = 0.5 * kNominalWidth;
-    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth, 0.0;
+    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth, 0.0, 0.0;
     P_(4, 4) = 1.0;
     initialised_ = true;
     return;
@@ -277,7 +362,8 @@ void LaneModelFilter::associate(int count) {
   }
 }
 
-void LaneModelFilter::updateEgo(const Track& t, int p) {
+int LaneModelFilter::updateEgo(const Track& t, int p) {
+  int used = 0;
   for (int i = 0; i < t.n; ++i) {
     const double x = t.xy[i].x();
     const Row H = measurementRow(p, x);
@@ -287,9 +373,13 @@ void LaneModelFilter::updateEgo(const Track& t, int p) {
     const State K = P_ * H.transpose() / S;
     x_ += K * innovation;
     P_ -= K * S * K.transpose();
+    ++used;
   }
   P_ = 0.5 * (P_ + P_.transpose());
   x_[4] = std::min(std::max(x_[4], settings_.width_min), settings_.width_max);
+  x_[5] = std::min(std::max(x_[5], -kMaxSideways), kMaxSideways);
+  x_[6] = std::min(std::max(x_[6], -kMaxSlopeRate), kMaxSlopeRate);
+  return used;
 }
 
 void LaneModelFilter::updateOuter(const Track& t, int p) {
@@ -368,33 +458,41 @@ void LaneModelFilter::update(const Eigen::Isometry3d& vehicle_from_camera,
   for (Memory& m : memory_) m.age = std::min(m.age + 1, 1000);
 
   if (!initialised_) {
-    const Track *left = nullptr, *right = nullptr;
-    for (int k = 0; k < count; ++k) {
-      const Track& t = tracks_[k];
-      if (t.n < 2 || !t.obs->ego) continue;
-      (t.obs->left ? left : right) = &t;
-    }
-    if (left || right) initialise(left, right);
+    initialiseFromEgo(count);
   } else {
-    // the lane keeps moving sideways at vy
+    // the lane keeps moving sideways at vy and turning at omega
     Cov F = Cov::Identity();
     F(0, 5) = 1.0;
+    F(1, 6) = 1.0;
     x_[0] += x_[5];
+    x_[1] += x_[6];
     P_ = F * P_ * F.transpose();
-    for (int i = 0; i < 6; ++i) P_(i, i) += kQ[i];
+    for (int i = 0; i < kN; ++i) P_(i, i) += kQ[i];
   }
   if (initialised_) {
     // the vehicle left the ego lane (the model says so): relabel before associating
     if (x_[0] - 0.5 * x_[4] > 0.0) relabel(-1);
     else if (x_[0] + 0.5 * x_[4] < 0.0) relabel(+1);
     associate(count);
-    bool ego_seen = false;
+    bool ego_seen = false, ego_used = false;
     for (int p = 0; p < 2; ++p)
       for (int k = 0; k < count; ++k)
         if (tracks_[k].assigned == p) {
-          updateEgo(tracks_[k], p);
+          ego_used = updateEgo(tracks_[k], p) > 0 || ego_used;
           ego_seen = true;
         }
+    // The detector sees its ego lane, and for kDisagreeFrames frames in a row the model took
+    // none of it (a wrong start, a jump the model could not follow): start over from this frame.
+    bool ego_observed = false;
+    for (int k = 0; k < count; ++k) ego_observed = ego_observed || (tracks_[k].n >= 2 && tracks_[k].obs->ego);
+    disagree_ = ego_observed && !ego_used ? disagree_ + 1 : 0;
+    if (disagree_ >= kDisagreeFrames) {
+      const int changes = lane_changes_;
+      initialiseFromEgo(count);
+      lane_changes_ = changes;
+      fill(model);
+      return;
+    }
     for (int k = 0; k < count; ++k) {
       const Track& t = tracks_[k];
       if (t.assigned < 0) continue;
