@@ -55,7 +55,7 @@ struct BoundaryObservation {
 struct LaneModelSettings {
   double gate = 0.5;             ///< m: measurements farther from every boundary are ignored
   int lost_frames = 10;          ///< frames without an ego measurement before a reset
-  double measurement_std = 0.05; ///< m: lateral noise of a boundary point at 10 m
+  double measurement_std = 0.02; ///< m: lateral noise of a boundary point at 10 m (linear in x)
   double width_min = 0.8, width_max = 5.5;  ///< plausible lane widths (m)
   double x_max = 60.0;           ///< longest range reported (m)
   double dashed_coverage = 0.8;  ///< paint coverage below this is a dashed line
@@ -107,10 +107,12 @@ class LaneModelFilter {
     int assigned = -1;  ///< BoundaryPosition it was associated with, -1: none
   };
   /// What is remembered of each boundary position between frames.
+  static constexpr int kRangeFrames = 3;  ///< recent sightings whose ranges are published
   struct Memory {
     int frames = 0;           ///< frames it was seen since it appeared
     int age = 1000;           ///< frames since it was last seen
-    double x_min = 0.0, x_max = 0.0;
+    std::array<Eigen::Vector2d, kRangeFrames> extents;  ///< (x_min, x_max) of recent sightings
+    int num_extents = 0, next_extent = 0;
     double beyond = 0.0;      ///< outer boundaries: lateral distance beyond their ego side (m)
     double beyond_var = 1.0;
     float detector_confidence = 0.0f;
@@ -125,10 +127,18 @@ class LaneModelFilter {
   bool project(const Eigen::Isometry3d& T, const BoundaryObservation& o, Track& t);
   /// Boundary @p p was seen within the last lost_frames frames.
   bool known(int p) const { return memory_[p].age <= settings_.lost_frames; }
+  /// The ego boundary of side @p side (0 left, 1 right) is a road edge: nothing lies beyond it.
+  bool endsRoad(int side) const { return known(side) && memory_[side].edge_vote > 0.0f; }
   /// Lateral position of boundary @p p at x (from the state and the memory).
   double predicted(int p, double x) const;
   Row measurementRow(int p, double x) const;
+  /// Variance of boundary @p p's lateral position at @p x (the state's and, beyond the ego
+  /// lane, its distance's).
+  double lateralVariance(int p, double x) const;
+  /// Variance of a boundary point's lateral position at @p x as the detector measures it.
   double measurementVariance(double x) const;
+  /// Variance added to boundary @p p's measurements: how much they scattered recently.
+  double boundaryScatter(int p) const;
   /// Drop the stations of @p t off the curve through the others (stray points), worst first.
   void trimStations(Track& t) const;
   /// Start the model from this frame's ego observations (tracks_[0, count)), if any.

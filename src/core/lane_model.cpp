@@ -13,14 +13,21 @@ constexpr int kN = 7;                   // state size
 // Process noise per update (the lane moves relative to the vehicle): y0, slope, kappa, kappa',
 // w, vy (a lane change accelerates sideways by up to ~0.02 m per frame per frame at 10 fps),
 // omega (its heading rate changes by up to ~2 mrad per frame per frame).
-constexpr double kQ[kN] = {0.02 * 0.02, 0.005 * 0.005, 2e-4 * 2e-4, 1e-5 * 1e-5,
-                           0.02 * 0.02, 0.02 * 0.02,   0.002 * 0.002};
+constexpr double kQ[kN] = {0.01 * 0.01, 0.002 * 0.002, 1e-4 * 1e-4, 1e-5 * 1e-5,
+                           0.02 * 0.02, 0.02 * 0.02,  0.002 * 0.002};
 // Initial standard deviations of a fresh model.
 constexpr double kP0[kN] = {0.2, 0.03, 2e-3, 1e-4, 0.3, 0.1, 0.01};
 constexpr double kMaxSideways = 0.5;    // m per update: |vy| (a lane change at 10 fps: ~0.2)
 constexpr double kMaxSlopeRate = 0.03;  // per update: |omega| (a lane change: ~0.01)
 constexpr double kStationGate = 3.0;    // sigmas: a station further from the model is skipped
+constexpr double kHuber = 1.5;          // sigmas: a station beyond weighs less (Huber)
 constexpr int kDisagreeFrames = 3;      // frames the model takes none of the ego lane seen
+constexpr double kSlopeRateMemory = 0.8;  // omega's persistence per update (a turn relative to
+                                          // the lane ends: the vehicle follows its lane)
+constexpr double kMaxStd = 0.10;        // m: a boundary is published where its lateral std is
+                                        // at most this
+constexpr double kRangeStep = 0.5;      // m: steps of the search for that range
+constexpr double kResidualToStd = 1.25; // standard deviation / mean absolute residual
 constexpr double kNextMin = 1.5;        // m: an outer line at least this far beyond its ego side
 constexpr double kNextMax = 6.0;        // m: ... and at most this far
 constexpr float kMemory = 0.7f;         // per-frame weight of the past in the smoothed evidence
@@ -148,10 +155,12 @@ void LaneModelFilter::predict(const Eigen::Isometry3d& motion) {
   x_[1] = t + k * dx + 0.5 * kr * dx * dx - dpsi;
   x_[2] = k + kr * dx;
   P_ = F * P_ * F.transpose();
-  for (Memory& m : memory_) {
-    m.x_min = std::max(0.0, m.x_min - dx);
-    m.x_max = std::max(m.x_min, m.x_max - dx);
-  }
+  for (Memory& m : memory_)
+    for (int i = 0; i < m.num_extents; ++i) {
+      Eigen::Vector2d& e = m.extents[i];
+      e[0] = std::max(0.0, e[0] - dx);
+      e[1] = std::max(e[0], e[1] - dx);
+    }
 }
 
 double LaneModelFilter::predicted(int p, double x) const {
@@ -163,14 +172,31 @@ double LaneModelFilter::predicted(int p, double x) const {
   return centre + side * (half + beyond);
 }
 
+double LaneModelFilter::lateralVariance(int p, double x) const {
+  const Row H = measurementRow(isEgo(p) ? p : egoOf(p), x);
+  double var = (H * P_ * H.transpose())(0, 0);
+  if (!isEgo(p)) var += memory_[p].beyond_var;
+  return std::max(0.0, var);
+}
+
 LaneModelFilter::Row LaneModelFilter::measurementRow(int p, double x) const {
   Row H;
   H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5, 0.0, 0.0;
   return H;
 }
 
+double LaneModelFilter::boundaryScatter(int p) const {
+  // a line found in a different place from frame to frame (a kerb's face or its top, one line
+  // of a double line or the other) weighs less: its recent mean residual, as a standard
+  // deviation (|r| averages 0.8 sigma)
+  if (!known(p)) return 0.0;
+  const double s = kResidualToStd * memory_[p].residual;
+  return s * s;
+}
+
 double LaneModelFilter::measurementVariance(double x) const {
-  const double s = settings_.measurement_std * (1.0 + (x / 20.0) * (x / 20.0));
+  // a pixel's lateral extent on the road grows with x: linear in x, measurement_std at 10 m
+  const double s = settings_.measurement_std * (x + 2.0) / 12.0;
   return s * s;
 }
 
@@ -328,13 +354,14 @@ void LaneModelFilter::associate(int count) {
   int n = 0;
   for (int k = 0; k < count; ++k) {
     const Track& t = tracks_[k];
-    if (t.n == 0) continue;
+    if (t.n < 2) continue;
     const bool edge = t.obs->kind == BoundaryKind::kRoadEdge;
     for (int p = 0; p < kNumBoundaryPositions; ++p) {
       if (p >= 4 && !edge) continue;          // road edges are not paint
       if (p == 2 || p == 3) {
         if (edge) continue;                   // next lanes' lines are paint
       }
+      if (!isEgo(p) && endsRoad(egoOf(p))) continue;  // nothing beyond the road's edge
       double sum = 0.0;
       for (int i = 0; i < t.n; ++i) sum += std::fabs(t.xy[i].y() - predicted(p, t.xy[i].x()));
       const double d = sum / t.n;
@@ -364,12 +391,15 @@ void LaneModelFilter::associate(int count) {
 
 int LaneModelFilter::updateEgo(const Track& t, int p) {
   int used = 0;
+  const double scatter = boundaryScatter(p);
   for (int i = 0; i < t.n; ++i) {
     const double x = t.xy[i].x();
     const Row H = measurementRow(p, x);
-    const double S = (H * P_ * H.transpose())(0, 0) + measurementVariance(x);
+    double S = (H * P_ * H.transpose())(0, 0) + measurementVariance(x) + scatter;
     const double innovation = t.xy[i].y() - (H * x_)(0, 0);
-    if (std::fabs(innovation) > kStationGate * std::sqrt(S)) continue;
+    const double r = std::fabs(innovation) / std::sqrt(S);
+    if (r > kStationGate) continue;
+    if (r > kHuber) S *= r / kHuber;  // a station far out pulls no harder than one at kHuber
     const State K = P_ * H.transpose() / S;
     x_ += K * innovation;
     P_ -= K * S * K.transpose();
@@ -389,7 +419,7 @@ void LaneModelFilter::updateOuter(const Track& t, int p) {
   for (int i = 0; i < t.n; ++i) sum += side * (t.xy[i].y() - predicted(egoOf(p), t.xy[i].x()));
   const double z = sum / t.n;
   Memory& m = memory_[p];
-  const double r = measurementVariance(0.5 * (t.x_min + t.x_max));
+  const double r = measurementVariance(0.5 * (t.x_min + t.x_max)) + boundaryScatter(p);
   if (!known(p)) {
     m.beyond = z;
     m.beyond_var = r + 0.05;
@@ -406,8 +436,10 @@ void LaneModelFilter::remember(const Track& t, int p, double residual) {
   const bool fresh = !known(p);
   m.frames = fresh ? 1 : m.frames + 1;
   m.age = 0;
-  m.x_min = t.x_min;
-  m.x_max = t.x_max;
+  if (fresh) m.num_extents = m.next_extent = 0;
+  m.extents[m.next_extent] = Eigen::Vector2d(t.x_min, t.x_max);
+  m.next_extent = (m.next_extent + 1) % kRangeFrames;
+  m.num_extents = std::min(m.num_extents + 1, kRangeFrames);
   const float edge = o.kind == BoundaryKind::kRoadEdge ? 1.0f : -1.0f;
   auto blend = [fresh](float old_value, float value) {
     if (value < 0.0f) return old_value;
@@ -460,12 +492,14 @@ void LaneModelFilter::update(const Eigen::Isometry3d& vehicle_from_camera,
   if (!initialised_) {
     initialiseFromEgo(count);
   } else {
-    // the lane keeps moving sideways at vy and turning at omega
+    // the lane keeps moving sideways at vy and turning at omega (which fades)
     Cov F = Cov::Identity();
     F(0, 5) = 1.0;
     F(1, 6) = 1.0;
+    F(6, 6) = kSlopeRateMemory;
     x_[0] += x_[5];
     x_[1] += x_[6];
+    x_[6] *= kSlopeRateMemory;
     P_ = F * P_ * F.transpose();
     for (int i = 0; i < kN; ++i) P_(i, i) += kQ[i];
   }
@@ -529,11 +563,22 @@ void LaneModelFilter::fill(LaneModelEstimate& model) const {
     LaneBoundaryModel& b = model.boundaries[p];
     b.position = static_cast<BoundaryPosition>(p);
     if (!known(p)) continue;
+    if (!isEgo(p) && endsRoad(egoOf(p))) continue;
+    // the range of its recent sightings (an ego boundary: of the ego lane's, both sides being
+    // the one lane's edges), as far as the model knows it to kMaxStd
+    b.x_min = 1e9;
+    b.x_max = 0.0;
+    for (int q : {p, isEgo(p) && known(1 - p) ? 1 - p : p})
+      for (int i = 0; i < memory_[q].num_extents; ++i) {
+        b.x_min = std::min(b.x_min, memory_[q].extents[i][0]);
+        b.x_max = std::max(b.x_max, memory_[q].extents[i][1]);
+      }
+    while (b.x_max > b.x_min && lateralVariance(p, b.x_max) > kMaxStd * kMaxStd)
+      b.x_max = std::max(b.x_min, b.x_max - kRangeStep);
+    if (!(b.x_max > b.x_min) || lateralVariance(p, b.x_max) > kMaxStd * kMaxStd) continue;
     b.valid = true;
     const double c0 = predicted(p, 0.0);
     b.c = {c0, x_[1], 0.5 * x_[2], x_[3] / 6.0};
-    b.x_min = m.x_min;
-    b.x_max = m.x_max;
     if (m.edge_vote > 0.0f) {
       b.kind = LineKind::kRoadEdge;
       b.colour = LineColour::kUnknown;
@@ -545,11 +590,7 @@ void LaneModelFilter::fill(LaneModelEstimate& model) const {
                  : m.yellow >= settings_.yellowness ? LineColour::kYellow
                                                     : LineColour::kWhite;
     }
-    const double xm = 0.5 * (b.x_min + b.x_max);
-    const Row H = measurementRow(isEgo(p) ? p : egoOf(p), xm);
-    double var = (H * P_ * H.transpose())(0, 0);
-    if (!isEgo(p)) var += m.beyond_var;
-    b.lateral_std = static_cast<float>(std::sqrt(std::max(0.0, var)));
+    b.lateral_std = static_cast<float>(std::sqrt(lateralVariance(p, b.x_max)));
     const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
     const double fresh = std::pow(kAgeDecay, m.age);
     const double fit = std::exp(-m.residual / kResidualScale);
@@ -560,6 +601,7 @@ void LaneModelFilter::fill(LaneModelEstimate& model) const {
     }
   }
   if (model.x_min > model.x_max) model.x_min = model.x_max = 0.0;
+  model.valid = model.boundaries[0].valid || model.boundaries[1].valid;
 }
 
 }  // namespace rgbd_lane_detector
