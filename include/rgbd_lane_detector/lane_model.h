@@ -152,6 +152,8 @@ class LaneModelFilter {
   void remember(const Track& t, int p, double residual);
   void relabel(int direction);
   void fill(LaneModelEstimate& model) const;
+  /// Uncalibrated evidence in [0, 1] of a boundary with memory @p m published over @p range m.
+  float evidence(const Memory& m, double range) const;
 
   LaneModelSettings settings_;
   State x_;
@@ -164,6 +166,17 @@ class LaneModelFilter {
   std::array<Memory, kNumBoundaryPositions> memory_;
   std::vector<Eigen::Vector2d> scratch_;  ///< project(): an observation's points (reserved once)
 };
+
+/**
+ * @brief LaneBoundary.confidence from a boundary's uncalibrated evidence: the probability that a
+ * boundary with that evidence is correct (on its true line within 0.3 m, with its true label,
+ * kind and colour; tools/eval/lane_model_scoring.h), by isotonic regression on the evaluation
+ * sequences of seed 1 (make eval; fitted by tools/scripts/fit_confidence.py, checked on seed 2:
+ * docs/RESULTS.md). Monotonic, piecewise linear between the fitted knots.
+ * @param[in] evidence LaneBoundaryModel::evidence, in [0, 1].
+ * @return the confidence, in [0, 1].
+ */
+float calibratedConfidence(float evidence);
 
 /**
  * @brief The road-aligned frame under the camera, the vehicle frame when no base_link is known:

@@ -138,8 +138,10 @@ struct LaneBoundaryModel {
   LineColour colour = LineColour::kUnknown;
   std::array<double, 4> c{{0.0, 0.0, 0.0, 0.0}};  ///< y(x) = c0 + c1 x + c2 x^2 + c3 x^3
   double x_min = 0.0, x_max = 0.0;  ///< range of x over which the boundary was seen (m)
-  float confidence = 0.0f;          ///< estimate of P(this boundary is right), [0, 1]
-  float lateral_std = 0.0f;         ///< standard deviation of y at x = x_min..x_max (m)
+  float confidence = 0.0f;          ///< estimate of P(this boundary is right), [0, 1]: evidence calibrated
+  float evidence = 0.0f;            ///< uncalibrated evidence score in [0, 1] (calibratedConfidence())
+  int age = 0;                      ///< frames since it was last measured (0: this frame)
+  float lateral_std = 0.0f;         ///< standard deviation of y at x_max, the largest over the range (m)
   /// y at x.
   double lateral(double x) const { return c[0] + x * (c[1] + x * (c[2] + x * c[3])); }
 };

@@ -34,6 +34,8 @@ constexpr float kMemory = 0.7f;         // per-frame weight of the past in the s
 constexpr double kSupportFrames = 3.0;  // frames of evidence for a support of 1 - 1/e
 constexpr double kAgeDecay = 0.85;      // per frame without evidence
 constexpr double kResidualScale = 0.3;  // m
+constexpr double kCoverageMargin = 0.3; // paint coverage this far from dashed_coverage: a clear kind
+constexpr double kRangeScale = 10.0;    // m of published range for a span factor of 1 - 1/e
 
 inline bool isLeft(int p) { return p % 2 == 0; }
 inline bool isEgo(int p) { return p < 2; }
@@ -101,6 +103,26 @@ const char* lineColourName(LineColour c) {
     default:
       return "unknown";
   }
+}
+
+float calibratedConfidence(float evidence) {
+  // (evidence, P(correct)) knots: isotonic regression of "correct" on the evidence over every
+  // boundary published on the evaluation sequences of seed 1 (make eval, improved mode), each
+  // pooled block at its mean evidence with P = (correct + 1) / (boundaries + 2);
+  // tools/scripts/fit_confidence.py build/eval/lane_model.csv prints this table.
+  static constexpr float kKnots[][2] = {
+      {0.0000f, 0.7692f}, {0.1555f, 0.7692f}, {0.2200f, 0.8246f}, {0.4422f, 0.9339f},
+      {0.6159f, 0.9744f}, {0.7121f, 0.9773f}, {0.7582f, 0.9851f}, {0.7805f, 0.9904f},
+      {0.8094f, 0.9930f}, {0.8553f, 0.9947f}, {0.9279f, 0.9980f}, {0.9528f, 0.9981f},
+      {0.9714f, 0.9997f}, {1.0000f, 0.9997f}};
+  constexpr int n = sizeof(kKnots) / sizeof(kKnots[0]);
+  if (!(evidence > kKnots[0][0])) return kKnots[0][1];
+  for (int i = 1; i < n; ++i) {
+    if (evidence > kKnots[i][0]) continue;
+    const float w = (evidence - kKnots[i - 1][0]) / (kKnots[i][0] - kKnots[i - 1][0]);
+    return kKnots[i - 1][1] + w * (kKnots[i][1] - kKnots[i - 1][1]);
+  }
+  return kKnots[n - 1][1];
 }
 
 Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane) {
@@ -177,6 +199,23 @@ double LaneModelFilter::lateralVariance(int p, double x) const {
   double var = (H * P_ * H.transpose())(0, 0);
   if (!isEgo(p)) var += memory_[p].beyond_var;
   return std::max(0.0, var);
+}
+
+float LaneModelFilter::evidence(const Memory& m, double range) const {
+  // each factor in [0, 1]: seen in several frames, seen lately, where the model puts it, by a
+  // confident detector, of a clear kind (a firm paint / edge vote; paint coverage away from the
+  // dashed / solid threshold), over a useful range
+  const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
+  const double fresh = std::pow(kAgeDecay, m.age);
+  const double fit = std::exp(-m.residual / kResidualScale);
+  const double detector = 0.5 + 0.5 * m.detector_confidence;
+  double kind = std::min(1.0, static_cast<double>(std::fabs(m.edge_vote)));
+  if (m.edge_vote <= 0.0f)
+    kind *= m.coverage < 0.0f ? 0.5
+                              : std::min(1.0, std::fabs(m.coverage - settings_.dashed_coverage) /
+                                                  kCoverageMargin);
+  const double span = 1.0 - std::exp(-range / kRangeScale);
+  return static_cast<float>(support * fresh * fit * detector * (0.5 + 0.5 * kind) * span);
 }
 
 LaneModelFilter::Row LaneModelFilter::measurementRow(int p, double x) const {
@@ -591,10 +630,9 @@ void LaneModelFilter::fill(LaneModelEstimate& model) const {
                                                     : LineColour::kWhite;
     }
     b.lateral_std = static_cast<float>(std::sqrt(lateralVariance(p, b.x_max)));
-    const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
-    const double fresh = std::pow(kAgeDecay, m.age);
-    const double fit = std::exp(-m.residual / kResidualScale);
-    b.confidence = static_cast<float>(support * fresh * fit * (0.5 + 0.5 * m.detector_confidence));
+    b.evidence = evidence(m, b.x_max - b.x_min);
+    b.confidence = calibratedConfidence(b.evidence);
+    b.age = m.age;
     if (isEgo(p)) {
       model.x_min = std::min(model.x_min, b.x_min);
       model.x_max = std::max(model.x_max, b.x_max);

@@ -1,6 +1,7 @@
 // Lane-model scores of lane_model_scoring.h on hand-made models and truths in base_link: matches
 // (ONCE-3DLanes style, with the label), lateral errors within the reported range, geometry,
 // kind and colour, the worst published distance, F1 and the reliability table.
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -154,6 +155,35 @@ TEST(LaneModelScoring, ShortOverlapIsNoMatchAndErrorsStayInTheRange) {
   EXPECT_TRUE(std::isnan(ps.lateral_error[1])) << "10 m is beyond x_max";
 }
 
+TEST(LaneModelScoring, TruthGapsAreNotBridgedAndKindDecidesCorrect) {
+  FrameTruth t = truth();
+  // the left line is interrupted from 10 to 30 m (an intersection)
+  std::vector<Eigen::Vector3d>& pts = t.boundaries[0].points_base;
+  pts.erase(std::remove_if(pts.begin(), pts.end(),
+                           [](const Eigen::Vector3d& p) { return p.x() > 10.0 && p.x() < 30.0; }),
+            pts.end());
+  LaneModelEstimate m = exact();
+  m.boundaries[0].kind = LineKind::kSolid;  // the truth is dashed
+  m.boundaries[0].x_min = 12.0;             // published only within the gap
+  m.boundaries[0].x_max = 28.0;
+  LaneModelScore s = scoreLaneModel(m, t);
+  EXPECT_FALSE(s.positions[0].matched) << "no truth where it is published";
+  EXPECT_NEAR(s.positions[0].overlap, 0.0, 1e-9);
+  m.boundaries[0].x_min = 4.0;  // 4-10 m and 30-45 m on the line
+  m.boundaries[0].x_max = 45.0;
+  s = scoreLaneModel(m, t);
+  EXPECT_TRUE(s.positions[0].matched);
+  EXPECT_NEAR(s.positions[0].overlap, 21.0, 1.5);
+  EXPECT_FALSE(s.positions[0].correct) << "solid published on a dashed line";
+  EXPECT_TRUE(s.positions[1].correct);
+  LaneModelSummary sum;
+  sum.add(s, 0);
+  EXPECT_DOUBLE_EQ(sum.f1(egoPositions()), 1.0) << "F1 counts matches, whatever the kind";
+  int correct = 0;
+  for (const auto& c : sum.calibration) correct += c.second;
+  EXPECT_EQ(correct, 2) << "the calibration samples count correct boundaries";
+}
+
 TEST(LaneModelScoring, NothingWithoutVehicleFrame) {
   FrameTruth t = truth();
   t.has_vehicle_frame = false;
@@ -168,7 +198,9 @@ TEST(LaneModelScoring, ReliabilityTable) {
   for (int i = 0; i < 10; ++i) samples.emplace_back(0.95f, i < 9);  // 90% right at 0.95
   for (int i = 0; i < 4; ++i) samples.emplace_back(0.25f, i < 1);   // 25% right at 0.25
   samples.emplace_back(1.0f, true);                                 // the last bin
-  const std::vector<ReliabilityBin> t = reliabilityTable(samples, 10);
+  std::vector<double> edges;
+  for (int i = 0; i <= 10; ++i) edges.push_back(0.1 * i);
+  const std::vector<ReliabilityBin> t = reliabilityTable(samples, edges);
   ASSERT_EQ(t.size(), 10u);
   EXPECT_EQ(t[9].count, 11);
   EXPECT_NEAR(t[9].fractionCorrect(), 10.0 / 11.0, 1e-12);

@@ -48,7 +48,8 @@ LaneModelReport::LaneModelReport(std::ostream* csv, std::string curve_sequence,
     : csv_(csv), curve_(std::move(curve_sequence)), lane_change_(std::move(lane_change_sequence)) {
   if (csv_)
     *csv_ << "sequence,mode,frame,position,reported,truth,matched,overlap,mean_distance,"
-             "worst_distance,confidence,lateral_std,kind,true_kind,colour,true_colour\n";
+             "worst_distance,confidence,evidence,age,lateral_std,x_min,x_max,kind,true_kind,colour,"
+             "true_colour,correct\n";
 }
 
 void LaneModelReport::add(const std::string& sequence, const std::string& mode, int frame,
@@ -71,11 +72,15 @@ void LaneModelReport::add(const std::string& sequence, const std::string& mode, 
           << s.truth << "," << s.matched << "," << num("%.2f", s.overlap) << ","
           << num("%.4f", s.mean_distance) << "," << num("%.4f", s.worst_distance) << ","
           << (s.reported ? num("%.4f", s.confidence) : "") << ","
+          << (s.reported ? num("%.4f", s.evidence) : "") << ","
+          << (s.reported ? std::to_string(s.age) : "") << ","
           << (s.reported ? num("%.4f", s.lateral_std) : "") << ","
+          << (s.reported ? num("%.2f", s.x_min) : "") << ","
+          << (s.reported ? num("%.2f", s.x_max) : "") << ","
           << (s.reported ? lineKindName(s.kind) : "") << ","
           << (s.truth ? lineKindName(s.true_kind) : "") << ","
           << (s.reported ? lineColourName(s.colour) : "") << ","
-          << (s.truth ? lineColourName(s.true_colour) : "") << "\n";
+          << (s.truth ? lineColourName(s.true_colour) : "") << "," << s.correct << "\n";
   }
 }
 
@@ -150,7 +155,8 @@ void LaneModelReport::writeMarkdown(std::ostream& md, const std::string& suffix)
   md << "\n#### Lane model: F1, kind and colour" << suffix << "\n\n"
      << "A published boundary matches the true boundary of its label when its mean lateral "
         "distance, sampled every 0.5 m over the truth's range intersected with its own, is below "
-        "0.30 m over at least 5 m (ONCE-3DLanes style, with the label). Per position TP / FP / FN "
+        "0.30 m, the two overlapping over 5 m or all of the shorter one (ONCE-3DLanes style, with "
+        "the label). Per position TP / FP / FN "
         "(FN: a true boundary of that label without a match, seen by the camera or not); "
         "precision, recall and F1 over all six positions. Kind (solid, dashed, road edge; a "
         "double line is solid) and colour (white, yellow; paint only) accuracy over the matched "
@@ -206,14 +212,15 @@ void LaneModelReport::writeMarkdown(std::ostream& md, const std::string& suffix)
   md << "\n#### Lane model: confidence calibration" << suffix << "\n\n"
      << "Reliability of `LaneBoundary.confidence`, every published boundary of every sequence "
         "pooled: per confidence bin the boundaries, their mean confidence and the share that is "
-        "correct (matched, as above). ECE: the count-weighted mean |confidence - correct|.\n\n";
+        "correct (matched as above, with the true kind and, for paint, the true colour). ECE: the "
+        "count-weighted mean |confidence - correct|.\n\n";
   for (const auto& mode : ms) {
     const LaneModelSummary s = pooled(mode);
     const std::vector<ReliabilityBin> table = reliabilityTable(s.calibration);
     md << "| mode | confidence | boundaries | mean confidence | correct % |\n"
        << "| --- | --- | ---: | ---: | ---: |\n";
     for (const auto& b : table)
-      md << "| " << mode << " | " << num("%.1f", b.lo) << "-" << num("%.1f", b.hi) << " | "
+      md << "| " << mode << " | " << num("%.2f", b.lo) << "-" << num("%.2f", b.hi) << " | "
          << b.count << " | " << num("%.3f", b.meanConfidence()) << " | "
          << num("%.1f", 100.0 * b.fractionCorrect()) << " |\n";
     int n = 0;

@@ -10,6 +10,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kTruthGap = 2.0;  // m: the truth is sampled every 0.5 m; a longer step is a gap
 
 int sumOver(const std::array<int, kNumBoundaryPositions>& a, const std::vector<int>& positions) {
   int s = 0;
@@ -70,7 +71,7 @@ LaneModelScore scoreLaneModel(const LaneModelEstimate& model, const FrameTruth& 
   for (int p = 0; p < kNumBoundaryPositions; ++p) {
     PositionScore& ps = s.positions[p];
     const TrueBoundary* t = truth.boundary(static_cast<BoundaryLabel>(p));
-    const LateralLine line = t ? LateralLine(t->points_base) : LateralLine();
+    const LateralLine line = t ? LateralLine(t->points_base, kTruthGap) : LateralLine();
     ps.truth = t != nullptr && !line.empty();
     if (ps.truth) {
       ps.true_kind = trueLineKind(*t);
@@ -82,28 +83,41 @@ LaneModelScore scoreLaneModel(const LaneModelEstimate& model, const FrameTruth& 
     ps.kind = b.kind;
     ps.colour = b.colour;
     ps.confidence = b.confidence;
+    ps.evidence = b.evidence;
+    ps.age = b.age;
     ps.lateral_std = b.lateral_std;
+    ps.x_min = b.x_min;
+    ps.x_max = b.x_max;
     if (!ps.truth) {
       ps.worst_distance = kInf;
       continue;
     }
+    // samples every step over the truth's range intersected with the published one, where the
+    // truth exists (not in its gaps); the overlap is the length they stand for
     const double lo = std::max(b.x_min, line.xMin()), hi = std::min(b.x_max, line.xMax());
-    ps.overlap = std::max(0.0, hi - lo);
     double sum = 0.0, worst = 0.0;
-    int n = 0;
+    int n = 0, samples = 0;
     for (double x = lo; x <= hi + 1e-9; x += rules.step) {
+      ++samples;
       const double d = std::fabs(b.lateral(x) - line.at(std::min(x, hi)));
       if (!std::isfinite(d)) continue;
       sum += d;
       worst = std::max(worst, d);
       ++n;
     }
+    ps.overlap = samples > 1 ? (hi - lo) * n / samples : 0.0;
     if (n > 0) {
       ps.mean_distance = sum / n;
       ps.worst_distance = worst;
     }
-    const double needed = std::min(rules.min_overlap, line.xMax() - line.xMin());
-    ps.matched = n > 0 && ps.overlap >= needed - 1e-9 && ps.mean_distance < rules.match_distance;
+    // the overlap must cover min_overlap, or all of the shorter of the two lines
+    const double needed =
+        std::min({rules.min_overlap, line.length(), b.x_max - b.x_min});
+    ps.matched = n > 1 && ps.overlap >= needed - rules.step - 1e-9 &&
+                 ps.mean_distance < rules.match_distance;
+    ps.correct = ps.matched && ps.kind == ps.true_kind &&
+                 (ps.true_colour == rgbd_lane_detector::LineColour::kUnknown ||
+                  ps.colour == ps.true_colour);
     for (int k = 0; k < kNumLateralDistances; ++k) {
       const double x = kLateralDistances[k];
       if (x < b.x_min || x > b.x_max) continue;
@@ -118,17 +132,24 @@ double ReliabilityBin::meanConfidence() const {
 }
 double ReliabilityBin::fractionCorrect() const { return ratio(correct, count); }
 
+const std::vector<double>& defaultReliabilityEdges() {
+  static const std::vector<double> edges = {0.0, 0.5, 0.7, 0.8, 0.85, 0.9, 0.95, 0.98, 0.99, 1.0};
+  return edges;
+}
+
 std::vector<ReliabilityBin> reliabilityTable(const std::vector<std::pair<float, bool>>& samples,
-                                             int bins) {
-  bins = std::max(1, bins);
+                                             const std::vector<double>& edges) {
+  if (edges.size() < 2) return {};
+  const int bins = static_cast<int>(edges.size()) - 1;
   std::vector<ReliabilityBin> table(bins);
   for (int i = 0; i < bins; ++i) {
-    table[i].lo = static_cast<double>(i) / bins;
-    table[i].hi = static_cast<double>(i + 1) / bins;
+    table[i].lo = edges[i];
+    table[i].hi = edges[i + 1];
   }
   for (const auto& s : samples) {
-    const double c = std::min(1.0, std::max(0.0, static_cast<double>(s.first)));
-    const int i = std::min(bins - 1, static_cast<int>(c * bins));
+    const double c = std::min(edges.back(), std::max(edges.front(), static_cast<double>(s.first)));
+    const int i = static_cast<int>(std::upper_bound(edges.begin() + 1, edges.end() - 1, c) -
+                                   (edges.begin() + 1));
     ++table[i].count;
     table[i].correct += s.second;
     table[i].sum_confidence += c;
@@ -161,7 +182,7 @@ void LaneModelSummary::add(const LaneModelScore& s, int frame) {
     const PositionScore& ps = s.positions[p];
     if (ps.reported) {
       ps.matched ? ++tp[p] : ++fp[p];
-      calibration.emplace_back(ps.confidence, ps.matched);
+      calibration.emplace_back(ps.confidence, ps.correct);
       for (int k = 0; k < kNumLateralDistances; ++k)
         if (std::isfinite(ps.lateral_error[k])) lateral[p][k].push_back(ps.lateral_error[k]);
       if (!std::isnan(ps.worst_distance) && (worst_frame < 0 || ps.worst_distance > worst)) {

@@ -83,7 +83,8 @@ LateralLine::LateralLine(const std::vector<Eigen::Vector3d>& points,
   sort();
 }
 
-LateralLine::LateralLine(const std::vector<Eigen::Vector3d>& points_base) {
+LateralLine::LateralLine(const std::vector<Eigen::Vector3d>& points_base, double max_gap)
+    : max_gap_(max_gap) {
   xy_.reserve(points_base.size());
   for (const auto& p : points_base)
     if (p.allFinite()) xy_.emplace_back(p.x(), p.y());
@@ -95,6 +96,15 @@ void LateralLine::sort() {
             [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
 }
 
+double LateralLine::length() const {
+  double sum = 0.0;
+  for (size_t i = 1; i < xy_.size(); ++i) {
+    const double dx = xy_[i].x() - xy_[i - 1].x();
+    if (dx <= max_gap_) sum += dx;
+  }
+  return sum;
+}
+
 double LateralLine::at(double x) const {
   if (empty() || !(x >= xy_.front().x() && x <= xy_.back().x())) return kNaN;
   // first point with x >= the query; its predecessor starts the segment
@@ -104,6 +114,7 @@ double LateralLine::at(double x) const {
   const Eigen::Vector2d& a = *(it - 1);
   const Eigen::Vector2d& b = *it;
   const double dx = b.x() - a.x();
+  if (dx > max_gap_) return kNaN;
   const double w = dx > 0 ? (x - a.x()) / dx : 0.0;
   return a.y() + w * (b.y() - a.y());
 }

@@ -13,10 +13,13 @@
  *   origin, so they switch during a lane change): the reported range intersected with the
  *   truth's range, sampled every LaneModelRules::step.
  * - **Match** (ONCE-3DLanes style, with the label): the mean lateral distance over the overlap
- *   is below LaneModelRules::match_distance (0.30 m) and the overlap is at least
- *   min(LaneModelRules::min_overlap, the truth's length) long. A boundary reported at a label the
- *   frame has no truth for never matches.
- * - **Correct** (what LaneBoundary::confidence estimates): matched.
+ *   is below LaneModelRules::match_distance (0.30 m) and the overlap covers
+ *   min(LaneModelRules::min_overlap, the truth's length, the published length) (to within one
+ *   step). The truth is taken where it exists: a step of more than 2 m between its points (an
+ *   intersection) is a gap. A boundary reported at a label the frame has no truth for never
+ *   matches.
+ * - **Correct** (what LaneBoundary::confidence estimates): matched, with the true kind and, for
+ *   paint, the true colour.
  * - **F1** per position and over all six: TP = matched reported boundaries, FP = the other
  *   reported ones, FN = true boundaries without a match (every true boundary of the frame,
  *   whether or not the camera can see it).
@@ -60,6 +63,7 @@ struct PositionScore {
   bool reported = false;  ///< the model has a boundary at this position
   bool truth = false;     ///< the frame has a true boundary with this label
   bool matched = false;   ///< see the file comment
+  bool correct = false;   ///< matched, with the true kind (and colour, for paint)
   double overlap = 0.0;   ///< m of x where both exist
   double mean_distance;   ///< over the overlap (NaN: no overlap)
   double worst_distance;  ///< over the overlap (NaN: no overlap; +inf: reported, no truth)
@@ -68,7 +72,10 @@ struct PositionScore {
   rgbd_lane_detector::LineColour colour = rgbd_lane_detector::LineColour::kUnknown;
   rgbd_lane_detector::LineColour true_colour = rgbd_lane_detector::LineColour::kUnknown;
   float confidence = 0.0f;
+  float evidence = 0.0f;   ///< LaneBoundaryModel::evidence (the uncalibrated score)
+  int age = 0;             ///< LaneBoundaryModel::age
   float lateral_std = 0.0f;
+  double x_min = 0.0, x_max = 0.0;  ///< the published range
   PositionScore();
 };
 
@@ -102,12 +109,18 @@ struct ReliabilityBin {
   double fractionCorrect() const;  ///< NaN when empty
 };
 
+/// Bin edges of the reliability tables: finer where the confidences of a good model lie.
+const std::vector<double>& defaultReliabilityEdges();
+
 /**
- * @brief Reliability table of (confidence, correct) pairs in @p bins equal bins of [0, 1] (a
- * confidence of exactly 1 falls into the last).
+ * @brief Reliability table of (confidence, correct) pairs in the bins [edges[i], edges[i+1]) (a
+ * confidence of exactly the last edge falls into the last bin; outside the edges: clamped).
+ * @param[in] samples (confidence, correct) pairs.
+ * @param[in] edges increasing bin edges (at least two).
  */
 std::vector<ReliabilityBin> reliabilityTable(const std::vector<std::pair<float, bool>>& samples,
-                                             int bins = 10);
+                                             const std::vector<double>& edges =
+                                                 defaultReliabilityEdges());
 
 /// Expected calibration error of a reliability table: sum over bins of count / total *
 /// |mean confidence - fraction correct| (NaN without samples).

@@ -39,6 +39,7 @@
  */
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -147,17 +148,22 @@ class LateralLine {
   /// The finite points of @p points (optical frame) mapped by @p base_from_optical.
   LateralLine(const std::vector<Eigen::Vector3d>& points,
               const Eigen::Isometry3d& base_from_optical);
-  /// @p points already in base_link.
-  explicit LateralLine(const std::vector<Eigen::Vector3d>& points_base);
+  /// @p points already in base_link; two points more than @p max_gap apart in x leave a gap
+  /// (a line interrupted by an intersection).
+  explicit LateralLine(const std::vector<Eigen::Vector3d>& points_base,
+                       double max_gap = std::numeric_limits<double>::infinity());
   bool empty() const { return xy_.size() < 2; }
   double xMin() const { return xy_.empty() ? 0.0 : xy_.front().x(); }
   double xMax() const { return xy_.empty() ? 0.0 : xy_.back().x(); }
-  /// y at @p x; NaN outside [xMin(), xMax()] (no extrapolation) or for an empty line.
+  /// Length in x over which the line exists (gaps excluded).
+  double length() const;
+  /// y at @p x; NaN outside [xMin(), xMax()] (no extrapolation), in a gap or for an empty line.
   double at(double x) const;
 
  private:
   void sort();
   std::vector<Eigen::Vector2d> xy_;
+  double max_gap_ = std::numeric_limits<double>::infinity();
 };
 
 /**
