@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
   std::string modes_arg = "paper,improved,paper-colour,improved-colour", params_file;
   std::string out_dir = "build/eval", markdown, csv_path, images_dir;
   std::string picture_modes = "paper,improved";
-  std::string model_modes = "improved", model_markdown, model_csv_path;
+  std::string model_modes = "improved", model_markdown, model_csv_path, model_suffix;
   int picture_frame = -1, max_frames = -1;
   bool quiet = false;
   tools::CommandLine cl(
@@ -157,6 +157,8 @@ int main(int argc, char** argv) {
          &model_markdown);
   cl.add("lane-model-csv", "per-boundary CSV of the lane model (default <out>/lane_model.csv)",
          &model_csv_path);
+  cl.add("lane-model-suffix", "text appended to the lane-model section titles (e.g. ', seed 2')",
+         &model_suffix);
   cl.addFlag("quiet", "no progress bars", &quiet);
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
@@ -479,7 +481,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::ofstream model_md(model_markdown);
-  if (!model_report.empty()) model_report.writeMarkdown(model_md);
+  if (!model_report.empty()) model_report.writeMarkdown(model_md, model_suffix);
   if (!model_md || !model_csv) {
     std::cerr << "evaluate_sequences: cannot write " << model_markdown << "\n";
     return 1;

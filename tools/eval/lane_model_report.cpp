@@ -231,10 +231,11 @@ void LaneModelReport::writeMarkdown(std::ostream& md, const std::string& suffix)
        << num("%.2f", targets.confidence) << ": " << n << " boundaries, " << num("%.1f", pct)
        << "% correct.\n\n";
   }
-  for (const auto& mode : ms) writeMustShow(md, mode);
+  for (const auto& mode : ms) writeMustShow(md, mode, suffix);
 }
 
-void LaneModelReport::writeMustShow(std::ostream& md, const std::string& mode) const {
+void LaneModelReport::writeMustShow(std::ostream& md, const std::string& mode,
+                                    const std::string& suffix) const {
   const LaneModelSummary s = pooled(mode);
   const std::vector<int> ego = egoPositions(), all = allPositions();
   const std::vector<double> e10 = s.lateralErrors(ego, 1), e40 = s.lateralErrors(ego, 3);
@@ -247,7 +248,7 @@ void LaneModelReport::writeMustShow(std::ostream& md, const std::string& mode) c
   int n = 0;
   double pct = 0.0;
   above(s.calibration, targets.confidence, n, pct);
-  md << "#### Lane model: must-show figures (" << mode << ")\n\n"
+  md << "#### Lane model: must-show figures (" << mode << suffix << ")\n\n"
      << "| figure | target | measured | met |\n| --- | --- | ---: | --- |\n"
      << "| ego boundaries' lateral error at 10 m, median (all sequences) | <= "
      << num("%.2f", targets.median_10) << " m | " << num("%.3f", med10) << " | "

@@ -67,8 +67,10 @@ class LaneModelReport {
     std::string sequence, mode;
     LaneModelSummary summary;
   };
+  /// The modes added, in order of appearance.
   std::vector<std::string> modes() const;
-  void writeMustShow(std::ostream& md, const std::string& mode) const;
+  /// The must-show table of @p mode (all its sequences pooled; the curve and lane-change ones).
+  void writeMustShow(std::ostream& md, const std::string& mode, const std::string& suffix) const;
 
   std::vector<Entry> entries_;
   std::ostream* csv_;
