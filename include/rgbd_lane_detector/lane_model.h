@@ -24,9 +24,19 @@
  * the model by their lateral offset: the ego sides, the next lanes' lines and the road edges. A measurement one lane width from the ego
  * side it would belong to, on the side the vehicle moves to, is a lane change: the model is
  * relabelled (the old right line becomes the new left one) instead of being lost. Measurements
- * farther than the gate from every boundary are ignored; after lost_frames frames without an
- * ego measurement the model is reset. An optional motion between stamps (odom -> base_link)
- * moves the model before the update.
+ * farther than the gate from every boundary are ignored, stations beyond 3 sigmas of the model
+ * skipped and those beyond 1.5 sigmas down-weighted (Huber); a boundary whose measurements
+ * scatter from frame to frame (a kerb, one line of a double line or the other) counts less. When
+ * for 3 frames the detector sees its ego lane and the model takes none of it, the model starts
+ * over from this frame; after lost_frames frames without an ego measurement it is reset. An
+ * optional motion between stamps (odom -> base_link) moves the model before the update. Nothing
+ * is published beyond an ego boundary that is a road edge.
+ *
+ * Each boundary is published over the range of its recent sightings (an ego boundary: of the ego
+ * lane's, both sides being the one lane's edges) as far as its lateral standard deviation stays
+ * within 0.1 m, with its kind (solid / dashed from the paint coverage, road edge by a vote),
+ * colour, age and an evidence score; its confidence is that evidence calibrated
+ * (calibratedConfidence()).
  */
 #pragma once
 
@@ -71,6 +81,7 @@ class LaneModelFilter {
   LaneModelFilter();
   /// Forget the model.
   void reset();
+  /// Replace the settings (the model is kept).
   void setSettings(const LaneModelSettings& s) { settings_ = s; }
 
   /**

@@ -137,7 +137,7 @@ struct LaneBoundaryModel {
   LineKind kind = LineKind::kUnknown;
   LineColour colour = LineColour::kUnknown;
   std::array<double, 4> c{{0.0, 0.0, 0.0, 0.0}};  ///< y(x) = c0 + c1 x + c2 x^2 + c3 x^3
-  double x_min = 0.0, x_max = 0.0;  ///< range of x over which the boundary was seen (m)
+  double x_min = 0.0, x_max = 0.0;  ///< range of x over which it is known (m, LaneBoundary.msg)
   float confidence = 0.0f;          ///< estimate of P(this boundary is right), [0, 1]: evidence calibrated
   float evidence = 0.0f;            ///< uncalibrated evidence score in [0, 1] (calibratedConfidence())
   int age = 0;                      ///< frames since it was last measured (0: this frame)
