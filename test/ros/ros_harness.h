@@ -171,6 +171,13 @@ class Harness {
     return s;
   }
 
+  /// The good input set of another scene (bgr8, 16UC1 millimetres).
+  InputSet inputsOf(const test::RoadScene& other) const {
+    cv::Mat colour, depth;
+    other.render(colour, depth);
+    return makeInputs(colour, "bgr8", depth, "16UC1", other.K);
+  }
+
   /// A stamp after every one published so far.
   ros::Time nextStamp() {
     ros::Time t = ros::Time::now();

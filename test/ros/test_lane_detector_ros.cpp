@@ -234,9 +234,7 @@ TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
   test::RoadScene scene = g->scene;
   scene.lateral_offset = 0.3;  // + right of the lane centre
   scene.left_dashed = true;
-  cv::Mat bgr, depth_mm;
-  scene.render(bgr, depth_mm);
-  const InputSet in = g->makeInputs(bgr, "bgr8", depth_mm, "16UC1", scene.K);
+  const InputSet in = g->inputsOf(scene);
   Outputs out;
   out.model.subscribe(g->nh, "lane_model");
   out.centre.subscribe(g->nh, "lane_centre_line");
