@@ -157,7 +157,7 @@ fi
   echo "\`timings.total\` (single thread, the evaluator runs the four modes one after another)."
   echo
   cat "$EVAL_DIR/tables.md"
-  echo "### Lane model (issue 14)"
+  echo "### Lane model tables (issue 14)"
   echo
   echo "What \`lane_model\` publishes (\`Result::lane_model\`, improved mode, in base_link through the"
   echo "fixed mount as the bag's /tf_static gives it) against the true lane model of each frame"

@@ -248,7 +248,7 @@ void LaneModelReport::writeMustShow(std::ostream& md, const std::string& mode,
   int n = 0;
   double pct = 0.0;
   above(s.calibration, targets.confidence, n, pct);
-  md << "#### Lane model: must-show figures (" << mode << suffix << ")\n\n"
+  md << "#### Lane model: must-show figures" << suffix << ", " << mode << " mode\n\n"
      << "| figure | target | measured | met |\n| --- | --- | ---: | --- |\n"
      << "| ego boundaries' lateral error at 10 m, median (all sequences) | <= "
      << num("%.2f", targets.median_10) << " m | " << num("%.3f", med10) << " | "
