@@ -163,7 +163,8 @@ start "$LOGS/demo_probe.log" "$PROBE" __ns:="$NS" __name:=demo_probe \
 PROBE_PID=${PIDS[-1]}
 # the record binary itself (the rosbag wrapper script mishandles SIGINT on Debian's python 3.11)
 start "$LOGS/record.log" rosrun rosbag record --tcpnodelay -O "$OUT/outputs.bag" \
-  "$NS/lane_plane" "$NS/lane_markings" "$NS/lane_points" "$NS/lane_visualization" /tf_static
+  "$NS/lane_plane" "$NS/lane_markings" "$NS/lane_points" "$NS/lane_visualization" \
+  "$NS/lane_model" "$NS/lane_centre_line" /tf_static
 RECORD_PID=${PIDS[-1]}
 inputs="['$NS/rgb/image_rect_color', '$NS/depth_registered/image_rect', '$NS/rgb/camera_info']"
 if ! wait_graph 60 "all(any(n.endswith('lane_detector_manager') for n in subs.get(t, [])) for t in $inputs) and '$NS/demo_probe' in subs.get('$NS/lane_plane', []) and len(subs.get('$NS/lane_markings', [])) > 0"; then
@@ -229,7 +230,7 @@ fi
 echo "outputs:"
 echo "  overlay video : $(rel "$OUT/overlay.avi") ($video_frames frames of $NS/debug_image, MJPG)"
 echo "  overlay images: $(rel "$OUT/overlays")/ ($overlays PNGs, every 30th overlay)"
-echo "  recorded bag  : $(rel "$OUT/outputs.bag") (lane_plane, lane_markings, lane_points, lane_visualization)"
+echo "  recorded bag  : $(rel "$OUT/outputs.bag") (lane_plane, lane_markings, lane_points, lane_visualization, lane_model, lane_centre_line)"
 echo "  latency CSV   : $(rel "$OUT/latency.csv"); logs: $(rel "$LOGS")"
 echo "  rviz          : roslaunch $ROOT/launch/demo.launch bag:=$BAG"
 echo "time: generate ${t_generate} s, bag ${t_convert} s, ROS graph ${t_graph} s, scoring ${t_score} s," \

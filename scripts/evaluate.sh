@@ -7,10 +7,16 @@
 #     checks the planes on the real KITTI frames against the LiDAR depth (../shared/realdata),
 #     with the LiDAR depth and with depth from the colour stereo pair (StereoSGBM), which is
 #     itself measured against the LiDAR (evaluate_stereo),
-#  3. writes the generated part of docs/RESULTS.md, the overlay pictures and score plots of
+#  3. scores the improved mode's lane model (Result::lane_model) against the true lane model
+#     (tools/include/rgbd_lane_detector_tools/lane_model_scoring.h), refits the confidence
+#     calibration on these sequences (tools/scripts/fit_confidence.py) and checks the lane model
+#     on held-out sequences of another seed (HELDOUT_SEED, HELDOUT_FRAMES),
+#  4. writes the generated part of docs/RESULTS.md, the overlay pictures and score plots of
 #     docs/images/.
 # Run with the catkin workspace sourced (`make eval` builds and sources it).
 # Environment: FRAMES (300), WIDTH (640), HEIGHT (380), SEED (1), DATA_DIR (build/data),
+#   HELDOUT_SEED (2; empty: no held-out check), HELDOUT_FRAMES (200),
+#   HELDOUT_DIR (build/data_seed$HELDOUT_SEED),
 #   EVAL_DIR (build/eval), REALDATA (../shared/realdata), RESULTS (docs/RESULTS.md),
 #   IMAGES (docs/images), TOOLS_BIN (folder of the tool executables, found automatically),
 #   SOURCE_COMMIT (commit the tools were built from, default: this checkout's HEAD).
@@ -21,12 +27,16 @@ FRAMES="${FRAMES:-300}"
 WIDTH="${WIDTH:-640}"
 HEIGHT="${HEIGHT:-380}"
 SEED="${SEED:-1}"
+HELDOUT_SEED="${HELDOUT_SEED-2}"
+HELDOUT_FRAMES="${HELDOUT_FRAMES:-200}"
 DATA_DIR="${DATA_DIR:-$ROOT/build/data}"
 EVAL_DIR="${EVAL_DIR:-$ROOT/build/eval}"
+EVAL_DIR_REL="$(realpath -m --relative-to="$ROOT" "$EVAL_DIR")"
 REALDATA="${REALDATA:-$(cd "$ROOT/.." && pwd)/shared/realdata}"
 RESULTS="${RESULTS:-$ROOT/docs/RESULTS.md}"
 IMAGES="${IMAGES:-$ROOT/docs/images}"
 PYTHON=/usr/bin/python3
+HELDOUT_DIR="${HELDOUT_DIR:-$ROOT/build/data_seed$HELDOUT_SEED}"
 
 # scenario:sensor pairs of the standard set: the highway set, then the real-street failures
 # (kerb, tram rails, unpainted asphalt edge, intersections, crest and sag, yellow centre line)
@@ -59,6 +69,21 @@ for pair in "${SEQUENCES[@]}"; do
     --height "$HEIGHT" --seed "$SEED" --out "$DATA_DIR/$name" --skip-if-same
   args+=(--seq "$name=$DATA_DIR/$name")
 done
+# the held-out set: the same scenarios with another seed (the lane model's check)
+heldout_args=()
+if [ -n "$HELDOUT_SEED" ]; then
+  echo "== generating the held-out set: seed $HELDOUT_SEED, $HELDOUT_FRAMES frames, into $HELDOUT_DIR"
+  for pair in "${SEQUENCES[@]}"; do
+    scenario="${pair%%:*}"
+    sensor="${pair##*:}"
+    name="$scenario"
+    [ "$sensor" != clean ] && name="${scenario}_${sensor}"
+    "$GENERATE" --scenario "$scenario" --sensor "$sensor" --frames "$HELDOUT_FRAMES" \
+      --width "$WIDTH" --height "$HEIGHT" --seed "$HELDOUT_SEED" --out "$HELDOUT_DIR/$name" \
+      --skip-if-same
+    heldout_args+=(--seq "$name=$HELDOUT_DIR/$name")
+  done
+fi
 gen_time=$(( $(date +%s) - start ))
 
 args+=(--paper summer=01-SUMMER --paper fog=01-FOG --paper summer_sparse=R200)
@@ -78,7 +103,20 @@ fi
 echo "== evaluating (modes paper, improved, paper-colour, improved-colour)"
 start=$(date +%s)
 "$EVALUATE" "${args[@]}" --out "$EVAL_DIR" --markdown "$EVAL_DIR/tables.md" \
-  --csv "$EVAL_DIR/per_frame.csv" --images "$IMAGES"
+  --csv "$EVAL_DIR/per_frame.csv" --images "$IMAGES" \
+  --lane-model-markdown "$EVAL_DIR/lane_model.md" --lane-model-csv "$EVAL_DIR/lane_model.csv" \
+  --lane-model-suffix " (seed $SEED)"
+if [ -n "$HELDOUT_SEED" ]; then
+  echo "== the lane model on the held-out set (seed $HELDOUT_SEED, improved mode)"
+  mkdir -p "$EVAL_DIR/heldout"
+  "$EVALUATE" "${heldout_args[@]}" --modes improved --out "$EVAL_DIR/heldout" \
+    --images "$EVAL_DIR/heldout/images" --lane-model-markdown "$EVAL_DIR/heldout/lane_model.md" \
+    --lane-model-csv "$EVAL_DIR/heldout/lane_model.csv" --lane-model-suffix " (held out: seed $HELDOUT_SEED)" \
+    > "$EVAL_DIR/heldout/summary.txt"
+fi
+# the confidence calibration refitted on this run's boundaries (src/core/lane_model.cpp holds
+# the table fitted at the commit that last changed the lane model)
+"$PYTHON" "$ROOT/tools/scripts/fit_confidence.py" "$EVAL_DIR/lane_model.csv" > "$EVAL_DIR/confidence_fit.txt"
 eval_time=$(( $(date +%s) - start ))
 "$PYTHON" "$ROOT/tools/scripts/plot_scores.py" "$EVAL_DIR/per_frame.csv" "$IMAGES"
 
@@ -119,6 +157,28 @@ fi
   echo "\`timings.total\` (single thread, the evaluator runs the four modes one after another)."
   echo
   cat "$EVAL_DIR/tables.md"
+  echo "### Lane model tables (issue 14)"
+  echo
+  echo "What \`lane_model\` publishes (\`Result::lane_model\`, improved mode, in base_link through the"
+  echo "fixed mount as the bag's /tf_static gives it) against the true lane model of each frame"
+  echo "(\`tools/include/rgbd_lane_detector_tools/lane_model_scoring.h\`), on the sequences above"
+  echo "(seed $SEED) and, held out, the same scenarios with seed ${HELDOUT_SEED:-(none)}."
+  echo
+  cat "$EVAL_DIR/lane_model.md"
+  if [ -n "$HELDOUT_SEED" ] && [ -f "$EVAL_DIR/heldout/lane_model.md" ]; then
+    echo "Held out: the same $((${#SEQUENCES[@]})) scenarios generated with seed $HELDOUT_SEED ($HELDOUT_FRAMES frames"
+    echo "each), scored the same way; the confidence calibration was fitted on seed $SEED only."
+    echo
+    cat "$EVAL_DIR/heldout/lane_model.md"
+  fi
+  echo "The confidence calibration refitted on this run's seed-$SEED boundaries"
+  echo "(\`tools/scripts/fit_confidence.py $EVAL_DIR_REL/lane_model.csv\`; \`calibratedConfidence()\` in"
+  echo "\`src/core/lane_model.cpp\` holds the table of the run that last changed the lane model):"
+  echo
+  echo '```'
+  cat "$EVAL_DIR/confidence_fit.txt"
+  echo '```'
+  echo
   if [ -f "$EVAL_DIR/kitti_improved.txt" ]; then
     echo "KITTI per-run summary (\`run_dataset --plane-check\`, road region below the horizon,"
     echo "central 30% of the columns, LiDAR depth <= 40 m):"

@@ -201,7 +201,7 @@ class BoundaryClassifier {
   std::vector<float> profile_;
   std::vector<Band> bands_;
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
-  std::vector<float> yellow_;  ///< measurePaint(): yellowness of each painted row
+  std::vector<float> yellow_;  ///< measurePaint(): yellowness per row (measureRow() uses side_)
   std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start

@@ -96,6 +96,11 @@ struct MarkerTrace {
   std::vector<float> scores;          ///< R at each centroid
   std::vector<Eigen::Vector3f> points;///< 3D centroids (optical frame, m); NaN where no depth
   int num_valid_points = 0;           ///< points with finite coordinates
+  /// This frame's own measurement of a tracked side (the chosen line's road points, optical
+  /// frame), before the lane tracker smooths it over frames into @ref points; empty when the
+  /// tracker carries the side without evidence this frame, and without tracking. The lane model
+  /// (LaneModelFilter) is updated from it: a smoothed input would lag a turning vehicle.
+  std::vector<Eigen::Vector3f> measured;
 };
 
 // --- The lane model for planners (LaneModelFilter, lane_model.h) -----------------------------
@@ -132,9 +137,11 @@ struct LaneBoundaryModel {
   LineKind kind = LineKind::kUnknown;
   LineColour colour = LineColour::kUnknown;
   std::array<double, 4> c{{0.0, 0.0, 0.0, 0.0}};  ///< y(x) = c0 + c1 x + c2 x^2 + c3 x^3
-  double x_min = 0.0, x_max = 0.0;  ///< range of x over which the boundary was seen (m)
-  float confidence = 0.0f;          ///< estimate of P(this boundary is right), [0, 1]
-  float lateral_std = 0.0f;         ///< standard deviation of y at x = x_min..x_max (m)
+  double x_min = 0.0, x_max = 0.0;  ///< range of x over which it is known (m, LaneBoundary.msg)
+  float confidence = 0.0f;          ///< estimate of P(this boundary is right), [0, 1]: evidence calibrated
+  float evidence = 0.0f;            ///< uncalibrated evidence score in [0, 1] (calibratedConfidence())
+  int age = 0;                      ///< frames since it was last measured (0: this frame)
+  float lateral_std = 0.0f;         ///< standard deviation of y at x_max, the largest over the range (m)
   /// y at x.
   double lateral(double x) const { return c[0] + x * (c[1] + x * (c[2] + x * c[3])); }
 };

@@ -634,11 +634,15 @@ void LaneDetector::updateLaneModel(const Frame& frame, Result& result) {
   for (int k = 0; k < 6; ++k) {
     const MarkerTrace& m = *traces[k];
     if (!m.found) continue;
+    // a tracked ego side is measured by this frame's chosen line: the tracker's points lag a
+    // turning vehicle, and where it bridges a frame without a line they are no measurement
+    const bool tracked = k < 2 && params_.track_lanes;
+    if (tracked && m.measured.size() < 2) continue;
     BoundaryObservation& o = observations_[count++];
     o.left = k % 2 == 0;
     o.ego = k < 2;
     o.kind = m.kind;
-    o.points = &m.points;
+    o.points = tracked ? &m.measured : &m.points;
     o.confidence = m.confidence;
     o.paint_coverage = m.paint_coverage;
     o.yellowness = m.yellowness;

@@ -35,6 +35,7 @@ void clearTrace(MarkerTrace& m) {
   m.pixels.clear();
   m.points.clear();
   m.scores.clear();
+  m.measured.clear();
   m.num_valid_points = 0;
 }
 
@@ -332,6 +333,9 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       evidence_margin_[i] = 0.f;
       continue;
     }
+    // this frame's chosen line, also where the tracker's gate kept its points out (the tracked
+    // shape lags a turning vehicle): the lane model gates it against its own prediction
+    if (chosen[i] >= 0) m.measured.assign(evidence_[i].begin(), evidence_[i].end());
     // a side seen in one frame only is not carried on: one frame's stray line is no boundary
     if (tracker_.age(i) > 0 && !tracker_.established(i)) continue;
     if (tracker_.age(i) == 0 && chosen[i] >= 0) {

@@ -9,18 +9,33 @@ namespace {
 constexpr double kNominalWidth = 3.5;   // m: width of a lane whose other side was never seen
 constexpr double kMinForward = 0.5;     // m: nearer points are not used
 constexpr double kQuadraticRange = 12.0;  // m of x-range before a side's curvature is fitted
-// Process noise per update (the lane moves relative to the vehicle).
-constexpr double kQ[6] = {0.02 * 0.02, 0.01 * 0.01, 2e-4 * 2e-4, 1e-5 * 1e-5, 0.02 * 0.02,
-                          0.03 * 0.03};
+constexpr int kN = 7;                   // state size
+// Process noise per update (the lane moves relative to the vehicle): y0, slope, kappa, kappa',
+// w, vy (a lane change accelerates sideways by up to ~0.02 m per frame per frame at 10 fps),
+// omega (its heading rate changes by up to ~2 mrad per frame per frame).
+constexpr double kQ[kN] = {0.01 * 0.01, 0.002 * 0.002, 1e-4 * 1e-4, 1e-5 * 1e-5,
+                           0.02 * 0.02, 0.02 * 0.02,  0.002 * 0.002};
 // Initial standard deviations of a fresh model.
-constexpr double kP0[6] = {0.2, 0.03, 2e-3, 1e-4, 0.3, 0.1};
+constexpr double kP0[kN] = {0.2, 0.03, 2e-3, 1e-4, 0.3, 0.1, 0.01};
+constexpr double kMaxSideways = 0.5;    // m per update: |vy| (a lane change at 10 fps: ~0.2)
+constexpr double kMaxSlopeRate = 0.03;  // per update: |omega| (a lane change: ~0.01)
 constexpr double kStationGate = 3.0;    // sigmas: a station further from the model is skipped
+constexpr double kHuber = 1.5;          // sigmas: a station beyond weighs less (Huber)
+constexpr int kDisagreeFrames = 3;      // frames the model takes none of the ego lane seen
+constexpr double kSlopeRateMemory = 0.8;  // omega's persistence per update (a turn relative to
+                                          // the lane ends: the vehicle follows its lane)
+constexpr double kMaxStd = 0.10;        // m: a boundary is published where its lateral std is
+                                        // at most this
+constexpr double kRangeStep = 0.5;      // m: steps of the search for that range
+constexpr double kResidualToStd = 1.25; // standard deviation / mean absolute residual
 constexpr double kNextMin = 1.5;        // m: an outer line at least this far beyond its ego side
 constexpr double kNextMax = 6.0;        // m: ... and at most this far
 constexpr float kMemory = 0.7f;         // per-frame weight of the past in the smoothed evidence
 constexpr double kSupportFrames = 3.0;  // frames of evidence for a support of 1 - 1/e
 constexpr double kAgeDecay = 0.85;      // per frame without evidence
 constexpr double kResidualScale = 0.3;  // m
+constexpr double kCoverageMargin = 0.3; // paint coverage this far from dashed_coverage: a clear kind
+constexpr double kRangeScale = 10.0;    // m of published range for a span factor of 1 - 1/e
 
 inline bool isLeft(int p) { return p % 2 == 0; }
 inline bool isEgo(int p) { return p < 2; }
@@ -90,6 +105,26 @@ const char* lineColourName(LineColour c) {
   }
 }
 
+float calibratedConfidence(float evidence) {
+  // (evidence, P(correct)) knots: isotonic regression of "correct" on the evidence over every
+  // boundary published on the evaluation sequences of seed 1 (make eval, improved mode), each
+  // pooled block at its mean evidence with P = (correct + 1) / (boundaries + 2);
+  // tools/scripts/fit_confidence.py build/eval/lane_model.csv prints this table.
+  static constexpr float kKnots[][2] = {
+      {0.0000f, 0.7692f}, {0.1555f, 0.7692f}, {0.2200f, 0.8246f}, {0.4422f, 0.9339f},
+      {0.6159f, 0.9744f}, {0.7121f, 0.9773f}, {0.7582f, 0.9851f}, {0.7805f, 0.9904f},
+      {0.8094f, 0.9930f}, {0.8553f, 0.9947f}, {0.9279f, 0.9980f}, {0.9528f, 0.9981f},
+      {0.9714f, 0.9997f}, {1.0000f, 0.9997f}};
+  constexpr int n = sizeof(kKnots) / sizeof(kKnots[0]);
+  if (!(evidence > kKnots[0][0])) return kKnots[0][1];
+  for (int i = 1; i < n; ++i) {
+    if (evidence > kKnots[i][0]) continue;
+    const float w = (evidence - kKnots[i - 1][0]) / (kKnots[i][0] - kKnots[i - 1][0]);
+    return kKnots[i - 1][1] + w * (kKnots[i][1] - kKnots[i - 1][1]);
+  }
+  return kKnots[n - 1][1];
+}
+
 Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   if (!plane.valid) return T;
@@ -108,13 +143,19 @@ Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane) {
   return T;
 }
 
+LaneModelFilter::LaneModelFilter() {
+  scratch_.reserve(kMaxPoints);
+  reset();
+}
+
 void LaneModelFilter::reset() {
   x_.setZero();
   x_[4] = kNominalWidth;
   P_.setZero();
-  for (int i = 0; i < 6; ++i) P_(i, i) = kP0[i] * kP0[i];
+  for (int i = 0; i < kN; ++i) P_(i, i) = kP0[i] * kP0[i];
   initialised_ = false;
   lost_ = 0;
+  disagree_ = 0;
   lane_changes_ = 0;
   for (auto& m : memory_) m = Memory();
 }
@@ -136,10 +177,12 @@ void LaneModelFilter::predict(const Eigen::Isometry3d& motion) {
   x_[1] = t + k * dx + 0.5 * kr * dx * dx - dpsi;
   x_[2] = k + kr * dx;
   P_ = F * P_ * F.transpose();
-  for (Memory& m : memory_) {
-    m.x_min = std::max(0.0, m.x_min - dx);
-    m.x_max = std::max(m.x_min, m.x_max - dx);
-  }
+  for (Memory& m : memory_)
+    for (int i = 0; i < m.num_extents; ++i) {
+      Eigen::Vector2d& e = m.extents[i];
+      e[0] = std::max(0.0, e[0] - dx);
+      e[1] = std::max(e[0], e[1] - dx);
+    }
 }
 
 double LaneModelFilter::predicted(int p, double x) const {
@@ -151,55 +194,162 @@ double LaneModelFilter::predicted(int p, double x) const {
   return centre + side * (half + beyond);
 }
 
+double LaneModelFilter::lateralVariance(int p, double x) const {
+  const Row H = measurementRow(isEgo(p) ? p : egoOf(p), x);
+  double var = (H * P_ * H.transpose())(0, 0);
+  if (!isEgo(p)) var += memory_[p].beyond_var;
+  return std::max(0.0, var);
+}
+
+float LaneModelFilter::evidence(const Memory& m, double range) const {
+  // each factor in [0, 1]: seen in several frames, seen lately, where the model puts it, by a
+  // confident detector, of a clear kind (a firm paint / edge vote; paint coverage away from the
+  // dashed / solid threshold), over a useful range
+  const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
+  const double fresh = std::pow(kAgeDecay, m.age);
+  const double fit = std::exp(-m.residual / kResidualScale);
+  const double detector = 0.5 + 0.5 * m.detector_confidence;
+  double kind = std::min(1.0, static_cast<double>(std::fabs(m.edge_vote)));
+  if (m.edge_vote <= 0.0f)
+    kind *= m.coverage < 0.0f ? 0.5
+                              : std::min(1.0, std::fabs(m.coverage - settings_.dashed_coverage) /
+                                                  kCoverageMargin);
+  const double span = 1.0 - std::exp(-range / kRangeScale);
+  return static_cast<float>(support * fresh * fit * detector * (0.5 + 0.5 * kind) * span);
+}
+
 LaneModelFilter::Row LaneModelFilter::measurementRow(int p, double x) const {
   Row H;
-  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5, 0.0;
+  H << 1.0, x, 0.5 * x * x, x * x * x / 6.0, isLeft(p) ? 0.5 : -0.5, 0.0, 0.0;
   return H;
 }
 
+double LaneModelFilter::boundaryScatter(int p) const {
+  // a line found in a different place from frame to frame (a kerb's face or its top, one line
+  // of a double line or the other) weighs less: its recent mean residual, as a standard
+  // deviation (|r| averages 0.8 sigma)
+  if (!known(p)) return 0.0;
+  const double s = kResidualToStd * memory_[p].residual;
+  return s * s;
+}
+
 double LaneModelFilter::measurementVariance(double x) const {
-  const double s = settings_.measurement_std * (1.0 + (x / 20.0) * (x / 20.0));
+  // a pixel's lateral extent on the road grows with x: linear in x, measurement_std at 10 m
+  const double s = settings_.measurement_std * (x + 2.0) / 12.0;
   return s * s;
 }
 
 bool LaneModelFilter::project(const Eigen::Isometry3d& T, const BoundaryObservation& o,
-                              Track& t) const {
+                              Track& t) {
   t.n = 0;
   t.obs = &o;
   t.assigned = -1;
   if (o.points == nullptr) return false;
-  // first and last usable points, then kStations samples spread over the points in between
+  // the usable points in the vehicle frame (x >= kMinForward > 0), sorted by x (evenly thinned
+  // beyond kMaxPoints)
   const std::vector<Eigen::Vector3f>& pts = *o.points;
-  int first = -1, last = -1, usable = 0;
-  for (int i = 0; i < static_cast<int>(pts.size()); ++i) {
+  const size_t stride = pts.size() / kMaxPoints + 1;
+  scratch_.clear();
+  for (size_t i = 0; i < pts.size(); i += stride) {
     if (!pts[i].allFinite()) continue;
-    const double x = (T * pts[i].cast<double>()).x();
-    if (x < kMinForward || x > settings_.x_max) continue;
-    if (first < 0) first = i;
-    last = i;
-    ++usable;
-  }
-  if (usable < 2) return false;
-  const int want = std::min(kStations, usable);
-  int taken = 0;
-  double prev = -1.0;
-  for (int s = 0; s < want; ++s) {
-    const int i = first + static_cast<int>(std::lround(static_cast<double>(s) * (last - first) /
-                                                       std::max(1, want - 1)));
-    if (i < 0 || i >= static_cast<int>(pts.size()) || !pts[i].allFinite()) continue;
     const Eigen::Vector3d q = T * pts[i].cast<double>();
-    if (q.x() < kMinForward || q.x() > settings_.x_max || q.x() == prev) continue;
-    prev = q.x();
-    t.xy[taken++] = Eigen::Vector2d(q.x(), q.y());
+    if (q.x() < kMinForward || q.x() > settings_.x_max) continue;
+    scratch_.emplace_back(q.x(), q.y());
   }
-  t.n = taken;
-  if (t.n < 2) return false;
-  t.x_min = t.x_max = t.xy[0].x();
-  for (int i = 1; i < t.n; ++i) {
-    t.x_min = std::min(t.x_min, t.xy[i].x());
-    t.x_max = std::max(t.x_max, t.xy[i].x());
+  if (scratch_.size() < 2) return false;
+  std::sort(scratch_.begin(), scratch_.end(),
+            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+  t.x_min = scratch_.front().x();
+  t.x_max = scratch_.back().x();
+  // one station per stretch of log x (as the camera sees the road: a pixel's lateral extent
+  // grows with x): its point of median y (a point of the line itself, near the middle of the
+  // stretch where the line is monotonic over it; a few stray points do not move it)
+  const double ratio = std::pow(t.x_max / t.x_min, 1.0 / kStations);
+  auto first = scratch_.begin();
+  double end = t.x_min;
+  for (int s = 0; s < kStations && first != scratch_.end(); ++s) {
+    end *= ratio;
+    auto last = s + 1 == kStations ? scratch_.end()
+                                   : std::find_if(first, scratch_.end(),
+                                                  [end](const Eigen::Vector2d& q) { return q.x() >= end; });
+    if (last == first) continue;
+    const auto mid = first + (last - first) / 2;
+    std::nth_element(first, mid, last, [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+      return a.y() < b.y();
+    });
+    t.xy[t.n++] = *mid;
+    first = last;
   }
-  return true;
+  trimStations(t);
+  return t.n >= 2;
+}
+
+void LaneModelFilter::trimStations(Track& t) const {
+  // A station off the curve through the others (a cluster of stray points the trace picked up)
+  // is dropped: of the lines (quadratics over a long range) through every two (three) stations,
+  // the one with the most stations within kStationGate sigmas, then the least spread, keeps
+  // those.
+  if (t.n < 3) return;
+  const bool quadratic = t.xy[t.n - 1].x() - t.xy[0].x() >= kQuadraticRange && t.n >= 4;
+  double sigma[kStations];
+  for (int i = 0; i < t.n; ++i) sigma[i] = std::sqrt(measurementVariance(t.xy[i].x()));
+  int best_count = 0;
+  double best_cost = 0.0;
+  Eigen::Vector3d best(0.0, 0.0, 0.0);
+  auto consider = [&](const Eigen::Vector3d& c) {
+    int count = 0;
+    double cost = 0.0;
+    for (int i = 0; i < t.n; ++i) {
+      const double x = t.xy[i].x();
+      const double r = std::fabs(t.xy[i].y() - (c[0] + x * (c[1] + x * c[2]))) / sigma[i];
+      count += r <= kStationGate;
+      cost += std::min(r, kStationGate) * std::min(r, kStationGate);
+    }
+    if (count > best_count || (count == best_count && cost < best_cost)) {
+      best_count = count;
+      best_cost = cost;
+      best = c;
+    }
+  };
+  for (int i = 0; i < t.n; ++i)
+    for (int j = i + 1; j < t.n; ++j) {
+      const Eigen::Vector2d& a = t.xy[i];
+      const Eigen::Vector2d& b = t.xy[j];
+      if (!quadratic) {
+        const double slope = (b.y() - a.y()) / (b.x() - a.x());
+        consider(Eigen::Vector3d(a.y() - slope * a.x(), slope, 0.0));
+        continue;
+      }
+      for (int k = j + 1; k < t.n; ++k) {
+        const Eigen::Vector2d& q = t.xy[k];
+        Eigen::Matrix3d V;
+        V << 1.0, a.x(), a.x() * a.x(), 1.0, b.x(), b.x() * b.x(), 1.0, q.x(), q.x() * q.x();
+        const Eigen::Vector3d c = V.partialPivLu().solve(Eigen::Vector3d(a.y(), b.y(), q.y()));
+        if (c.allFinite()) consider(c);
+      }
+    }
+  if (best_count < 2 || best_count == t.n) return;
+  const double x_first = t.xy[0].x(), x_last = t.xy[t.n - 1].x();
+  int kept = 0;
+  for (int i = 0; i < t.n; ++i) {
+    const double x = t.xy[i].x();
+    if (std::fabs(t.xy[i].y() - (best[0] + x * (best[1] + x * best[2]))) <= kStationGate * sigma[i])
+      t.xy[kept++] = t.xy[i];
+  }
+  t.n = kept;
+  // the range shrinks to the stations when an end station went
+  if (t.xy[0].x() != x_first) t.x_min = t.xy[0].x();
+  if (t.xy[t.n - 1].x() != x_last) t.x_max = t.xy[t.n - 1].x();
+}
+
+void LaneModelFilter::initialiseFromEgo(int count) {
+  const Track *left = nullptr, *right = nullptr;
+  for (int k = 0; k < count; ++k) {
+    const Track& t = tracks_[k];
+    if (t.n < 2 || !t.obs->ego) continue;
+    (t.obs->left ? left : right) = &t;
+  }
+  if (left || right) initialise(left, right);
 }
 
 void LaneModelFilter::initialise(const Track* left, const Track* right) {
@@ -213,7 +363,7 @@ void LaneModelFilter::initialise(const Track* left, const Track* right) {
   if (have[0] && have[1]) {
     const double w = a[0] - a[1];
     if (w >= settings_.width_min && w <= settings_.width_max) {
-      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w, 0.0;
+      x_ << 0.5 * (a[0] + a[1]), 0.5 * (b[0] + b[1]), c[0] + c[1], 0.0, w, 0.0, 0.0;
       P_(4, 4) = 0.1 * 0.1;
       initialised_ = true;
       return;
@@ -225,7 +375,7 @@ void LaneModelFilter::initialise(const Track* left, const Track* right) {
   for (int i = 0; i < 2; ++i) {
     if (!have[i]) continue;
     const double half = 0.5 * kNominalWidth;
-    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth, 0.0;
+    x_ << a[i] + (i == 0 ? -half : half), b[i], 2.0 * c[i], 0.0, kNominalWidth, 0.0, 0.0;
     P_(4, 4) = 1.0;
     initialised_ = true;
     return;
@@ -243,13 +393,14 @@ void LaneModelFilter::associate(int count) {
   int n = 0;
   for (int k = 0; k < count; ++k) {
     const Track& t = tracks_[k];
-    if (t.n == 0) continue;
+    if (t.n < 2) continue;
     const bool edge = t.obs->kind == BoundaryKind::kRoadEdge;
     for (int p = 0; p < kNumBoundaryPositions; ++p) {
       if (p >= 4 && !edge) continue;          // road edges are not paint
       if (p == 2 || p == 3) {
         if (edge) continue;                   // next lanes' lines are paint
       }
+      if (!isEgo(p) && endsRoad(egoOf(p))) continue;  // nothing beyond the road's edge
       double sum = 0.0;
       for (int i = 0; i < t.n; ++i) sum += std::fabs(t.xy[i].y() - predicted(p, t.xy[i].x()));
       const double d = sum / t.n;
@@ -277,19 +428,27 @@ void LaneModelFilter::associate(int count) {
   }
 }
 
-void LaneModelFilter::updateEgo(const Track& t, int p) {
+int LaneModelFilter::updateEgo(const Track& t, int p) {
+  int used = 0;
+  const double scatter = boundaryScatter(p);
   for (int i = 0; i < t.n; ++i) {
     const double x = t.xy[i].x();
     const Row H = measurementRow(p, x);
-    const double S = (H * P_ * H.transpose())(0, 0) + measurementVariance(x);
+    double S = (H * P_ * H.transpose())(0, 0) + measurementVariance(x) + scatter;
     const double innovation = t.xy[i].y() - (H * x_)(0, 0);
-    if (std::fabs(innovation) > kStationGate * std::sqrt(S)) continue;
+    const double r = std::fabs(innovation) / std::sqrt(S);
+    if (r > kStationGate) continue;
+    if (r > kHuber) S *= r / kHuber;  // a station far out pulls no harder than one at kHuber
     const State K = P_ * H.transpose() / S;
     x_ += K * innovation;
     P_ -= K * S * K.transpose();
+    ++used;
   }
   P_ = 0.5 * (P_ + P_.transpose());
   x_[4] = std::min(std::max(x_[4], settings_.width_min), settings_.width_max);
+  x_[5] = std::min(std::max(x_[5], -kMaxSideways), kMaxSideways);
+  x_[6] = std::min(std::max(x_[6], -kMaxSlopeRate), kMaxSlopeRate);
+  return used;
 }
 
 void LaneModelFilter::updateOuter(const Track& t, int p) {
@@ -299,7 +458,7 @@ void LaneModelFilter::updateOuter(const Track& t, int p) {
   for (int i = 0; i < t.n; ++i) sum += side * (t.xy[i].y() - predicted(egoOf(p), t.xy[i].x()));
   const double z = sum / t.n;
   Memory& m = memory_[p];
-  const double r = measurementVariance(0.5 * (t.x_min + t.x_max));
+  const double r = measurementVariance(0.5 * (t.x_min + t.x_max)) + boundaryScatter(p);
   if (!known(p)) {
     m.beyond = z;
     m.beyond_var = r + 0.05;
@@ -316,8 +475,10 @@ void LaneModelFilter::remember(const Track& t, int p, double residual) {
   const bool fresh = !known(p);
   m.frames = fresh ? 1 : m.frames + 1;
   m.age = 0;
-  m.x_min = t.x_min;
-  m.x_max = t.x_max;
+  if (fresh) m.num_extents = m.next_extent = 0;
+  m.extents[m.next_extent] = Eigen::Vector2d(t.x_min, t.x_max);
+  m.next_extent = (m.next_extent + 1) % kRangeFrames;
+  m.num_extents = std::min(m.num_extents + 1, kRangeFrames);
   const float edge = o.kind == BoundaryKind::kRoadEdge ? 1.0f : -1.0f;
   auto blend = [fresh](float old_value, float value) {
     if (value < 0.0f) return old_value;
@@ -368,33 +529,43 @@ void LaneModelFilter::update(const Eigen::Isometry3d& vehicle_from_camera,
   for (Memory& m : memory_) m.age = std::min(m.age + 1, 1000);
 
   if (!initialised_) {
-    const Track *left = nullptr, *right = nullptr;
-    for (int k = 0; k < count; ++k) {
-      const Track& t = tracks_[k];
-      if (t.n < 2 || !t.obs->ego) continue;
-      (t.obs->left ? left : right) = &t;
-    }
-    if (left || right) initialise(left, right);
+    initialiseFromEgo(count);
   } else {
-    // the lane keeps moving sideways at vy
+    // the lane keeps moving sideways at vy and turning at omega (which fades)
     Cov F = Cov::Identity();
     F(0, 5) = 1.0;
+    F(1, 6) = 1.0;
+    F(6, 6) = kSlopeRateMemory;
     x_[0] += x_[5];
+    x_[1] += x_[6];
+    x_[6] *= kSlopeRateMemory;
     P_ = F * P_ * F.transpose();
-    for (int i = 0; i < 6; ++i) P_(i, i) += kQ[i];
+    for (int i = 0; i < kN; ++i) P_(i, i) += kQ[i];
   }
   if (initialised_) {
     // the vehicle left the ego lane (the model says so): relabel before associating
     if (x_[0] - 0.5 * x_[4] > 0.0) relabel(-1);
     else if (x_[0] + 0.5 * x_[4] < 0.0) relabel(+1);
     associate(count);
-    bool ego_seen = false;
+    bool ego_seen = false, ego_used = false;
     for (int p = 0; p < 2; ++p)
       for (int k = 0; k < count; ++k)
         if (tracks_[k].assigned == p) {
-          updateEgo(tracks_[k], p);
+          ego_used = updateEgo(tracks_[k], p) > 0 || ego_used;
           ego_seen = true;
         }
+    // The detector sees its ego lane, and for kDisagreeFrames frames in a row the model took
+    // none of it (a wrong start, a jump the model could not follow): start over from this frame.
+    bool ego_observed = false;
+    for (int k = 0; k < count; ++k) ego_observed = ego_observed || (tracks_[k].n >= 2 && tracks_[k].obs->ego);
+    disagree_ = ego_observed && !ego_used ? disagree_ + 1 : 0;
+    if (disagree_ >= kDisagreeFrames) {
+      const int changes = lane_changes_;
+      initialiseFromEgo(count);
+      lane_changes_ = changes;
+      fill(model);
+      return;
+    }
     for (int k = 0; k < count; ++k) {
       const Track& t = tracks_[k];
       if (t.assigned < 0) continue;
@@ -431,11 +602,22 @@ void LaneModelFilter::fill(LaneModelEstimate& model) const {
     LaneBoundaryModel& b = model.boundaries[p];
     b.position = static_cast<BoundaryPosition>(p);
     if (!known(p)) continue;
+    if (!isEgo(p) && endsRoad(egoOf(p))) continue;
+    // the range of its recent sightings (an ego boundary: of the ego lane's, both sides being
+    // the one lane's edges), as far as the model knows it to kMaxStd
+    b.x_min = 1e9;
+    b.x_max = 0.0;
+    for (int q : {p, isEgo(p) && known(1 - p) ? 1 - p : p})
+      for (int i = 0; i < memory_[q].num_extents; ++i) {
+        b.x_min = std::min(b.x_min, memory_[q].extents[i][0]);
+        b.x_max = std::max(b.x_max, memory_[q].extents[i][1]);
+      }
+    while (b.x_max > b.x_min && lateralVariance(p, b.x_max) > kMaxStd * kMaxStd)
+      b.x_max = std::max(b.x_min, b.x_max - kRangeStep);
+    if (!(b.x_max > b.x_min) || lateralVariance(p, b.x_max) > kMaxStd * kMaxStd) continue;
     b.valid = true;
     const double c0 = predicted(p, 0.0);
     b.c = {c0, x_[1], 0.5 * x_[2], x_[3] / 6.0};
-    b.x_min = m.x_min;
-    b.x_max = m.x_max;
     if (m.edge_vote > 0.0f) {
       b.kind = LineKind::kRoadEdge;
       b.colour = LineColour::kUnknown;
@@ -447,21 +629,17 @@ void LaneModelFilter::fill(LaneModelEstimate& model) const {
                  : m.yellow >= settings_.yellowness ? LineColour::kYellow
                                                     : LineColour::kWhite;
     }
-    const double xm = 0.5 * (b.x_min + b.x_max);
-    const Row H = measurementRow(isEgo(p) ? p : egoOf(p), xm);
-    double var = (H * P_ * H.transpose())(0, 0);
-    if (!isEgo(p)) var += m.beyond_var;
-    b.lateral_std = static_cast<float>(std::sqrt(std::max(0.0, var)));
-    const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
-    const double fresh = std::pow(kAgeDecay, m.age);
-    const double fit = std::exp(-m.residual / kResidualScale);
-    b.confidence = static_cast<float>(support * fresh * fit * (0.5 + 0.5 * m.detector_confidence));
+    b.lateral_std = static_cast<float>(std::sqrt(lateralVariance(p, b.x_max)));
+    b.evidence = evidence(m, b.x_max - b.x_min);
+    b.confidence = calibratedConfidence(b.evidence);
+    b.age = m.age;
     if (isEgo(p)) {
       model.x_min = std::min(model.x_min, b.x_min);
       model.x_max = std::max(model.x_max, b.x_max);
     }
   }
   if (model.x_min > model.x_max) model.x_min = model.x_max = 0.0;
+  model.valid = model.boundaries[0].valid || model.boundaries[1].valid;
 }
 
 }  // namespace rgbd_lane_detector

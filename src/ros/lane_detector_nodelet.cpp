@@ -9,6 +9,7 @@
 #include <exception>
 #include <stdexcept>
 
+#include <nav_msgs/Path.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2/exceptions.h>
@@ -137,6 +138,7 @@ void LaneDetectorNodelet::onInit() {
   pub_markers_ = nh.advertise<visualization_msgs::MarkerArray>("lane_visualization", 5, connect_cb,
                                                                connect_cb);
   pub_model_ = nh.advertise<LaneModel>("lane_model", 5, connect_cb, connect_cb);
+  pub_centre_ = nh.advertise<nav_msgs::Path>("lane_centre_line", 5, connect_cb, connect_cb);
   pub_left_ = it_->advertise("response/left", 1, image_connect_cb, image_connect_cb);
   pub_right_ = it_->advertise("response/right", 1, image_connect_cb, image_connect_cb);
   pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
@@ -297,6 +299,7 @@ LaneDetectorNodelet::Wanted LaneDetectorNodelet::wantedOutputs() const {
   w.points = pub_points_.getNumSubscribers() > 0;
   w.markers = pub_markers_.getNumSubscribers() > 0;
   w.model = pub_model_.getNumSubscribers() > 0;
+  w.centre = pub_centre_.getNumSubscribers() > 0;
   w.left = pub_left_.getNumSubscribers() > 0;
   w.right = pub_right_.getNumSubscribers() > 0;
   w.geometric = pub_geometric_.getNumSubscribers() > 0;
@@ -462,10 +465,12 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
   }
   std_msgs::Header model_header = image_header;
   model_header.frame_id = model_frame_id_;
-  if (wanted.model) {
+  if (wanted.model || wanted.centre) {
     auto msg = boost::make_shared<LaneModel>();
     conv::fillLaneModel(result_.lane_model, model_header, *msg);
-    pub_model_.publish(msg);
+    // the centre line on its own topic, for rviz's Path display and path followers
+    if (wanted.centre) pub_centre_.publish(boost::make_shared<nav_msgs::Path>(msg->centre_line));
+    if (wanted.model) pub_model_.publish(msg);
   }
   if (wanted.markers) {
     auto msg = boost::make_shared<visualization_msgs::MarkerArray>();
@@ -473,7 +478,8 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
     conv::appendLaneModelMarkers(result_.lane_model, model_header, *msg);
     pub_markers_.publish(msg);
   }
-  if ((wanted.model || wanted.markers) && !vehicle_frame_found_ && result_.plane.valid) {
+  if ((wanted.model || wanted.centre || wanted.markers) && !vehicle_frame_found_ &&
+      result_.plane.valid) {
     // the road-aligned fallback frame, so that rviz and users can place the model
     geometry_msgs::TransformStamped tf = tf2::eigenToTransform(roadAlignedFrame(result_.plane).inverse());
     tf.header = image_header;

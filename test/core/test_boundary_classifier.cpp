@@ -107,6 +107,10 @@ struct Fixture {
     pixels = std::move(px);
     classifier.classify(in, pixels, left, p, ev);
   }
+  // measurePaint() along the same line (after classify() rendered the scene)
+  void measure(bool left, float& coverage, float& yellowness) {
+    classifier.measurePaint(in, pixels, left, Params::improved(), coverage, yellowness);
+  }
   std::vector<cv::Point2f> pixels;
 };
 
@@ -219,6 +223,42 @@ TEST(BoundaryClassifier, LineAboveTheRoadIsNoBoundary) {
   EXPECT_GT(f.ev.line_height, 0.9f);
 }
 
+// A solid white line on the left, a yellow one on the right (solid, or 3 m dashes every 12 m).
+CrossSection whiteAndYellow(bool dashed) {
+  CrossSection cs;
+  cs.colour = [dashed](double x, double z) {
+    if (std::fabs(x + 1.8) < 0.075) return grey(220);
+    if (std::fabs(x - 1.8) < 0.075 && (!dashed || std::fmod(z, 12.0) < 3.0))
+      return cv::Vec3b(204, 158, 36);
+    return grey(90);
+  };
+  return cs;
+}
+
+TEST(BoundaryClassifier, MeasurePaintTellsWhiteFromYellow) {
+  Fixture f;
+  float coverage = 0.f, yellowness = 0.f;
+  f.classify(whiteAndYellow(false), linePixels(-1.8), true);
+  f.measure(true, coverage, yellowness);
+  EXPECT_GE(yellowness, 0.0f);
+  EXPECT_LT(yellowness, 0.1f) << "white paint on grey asphalt";
+  f.classify(whiteAndYellow(false), linePixels(1.8), false);
+  f.measure(false, coverage, yellowness);
+  // 1 - B'/((R' + G') / 2) of (204, 158, 36) against grey 90: 1 - 0.4 / 2.0 = 0.8
+  EXPECT_NEAR(yellowness, 0.8f, 0.1f) << "yellow paint";
+}
+
+TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashed) {
+  Fixture f;
+  float coverage = 0.f, yellowness = 0.f;
+  f.classify(whiteAndYellow(true), linePixels(-1.8), true);
+  f.measure(true, coverage, yellowness);
+  EXPECT_GT(coverage, 0.9f) << "solid";
+  f.classify(whiteAndYellow(true), linePixels(1.8), false);
+  f.measure(false, coverage, yellowness);
+  EXPECT_NEAR(coverage, 0.25f, 0.1f) << "3 m of paint every 12 m";
+}
+
 TEST(BoundaryClassifier, NothingWithoutAPlane) {
   CrossSection cs;
   Fixture f;
@@ -294,44 +334,6 @@ TEST(BoundaryClassifier, FollowEdgeFindsWhereTheRoadEnds) {
   }
   EXPECT_LT(nearest, 6.0);   // followed toward the car
   EXPECT_GT(farthest, 14.0);  // and beyond the trace
-}
-
-TEST(BoundaryClassifier, MeasurePaintTellsDashedFromSolidAndYellowFromWhite) {
-  Params p = Params::improved();
-  float coverage, yellowness;
-  {
-    CrossSection cs;  // a solid white line
-    cs.colour = [](double x, double) { return std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80); };
-    Fixture f;
-    f.classify(cs, linePixels(-1.7), true);
-    f.classifier.measurePaint(f.in, linePixels(-1.7), true, p, coverage, yellowness);
-    EXPECT_GT(coverage, 0.9f);
-    EXPECT_GE(yellowness, 0.0f);
-    EXPECT_LT(yellowness, 0.1f);
-  }
-  {
-    CrossSection cs;  // a dashed white line: 3 m of paint every 12 m
-    cs.colour = [](double x, double z) {
-      const bool dash = std::fmod(z, 12.0) < 3.0;
-      return dash && std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80);
-    };
-    Fixture f;
-    f.classify(cs, linePixels(-1.7), true);
-    f.classifier.measurePaint(f.in, linePixels(-1.7), true, p, coverage, yellowness);
-    EXPECT_NEAR(coverage, 0.25f, 0.12f);
-    EXPECT_LT(coverage, static_cast<float>(p.dashed_coverage));
-  }
-  {
-    CrossSection cs;  // a solid yellow line
-    cs.colour = [](double x, double) {
-      return std::fabs(x + 1.7) < 0.075 ? cv::Vec3b(220, 180, 40) : grey(80);
-    };
-    Fixture f;
-    f.classify(cs, linePixels(-1.7), true);
-    f.classifier.measurePaint(f.in, linePixels(-1.7), true, p, coverage, yellowness);
-    EXPECT_GT(coverage, 0.9f);
-    EXPECT_GT(yellowness, static_cast<float>(p.yellow_threshold));
-  }
 }
 
 }  // namespace

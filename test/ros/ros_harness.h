@@ -38,7 +38,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include <rgbd_lane_detector/LaneDetectorConfig.h>
+#include <nav_msgs/Path.h>
 #include <rgbd_lane_detector/LaneMarkings.h>
+#include <rgbd_lane_detector/LaneModel.h>
 #include <rgbd_lane_detector/LanePlane.h>
 
 #include "../core/synthetic_scene.h"
@@ -169,6 +171,13 @@ class Harness {
     return s;
   }
 
+  /// The good input set of another scene (bgr8, 16UC1 millimetres).
+  InputSet inputsOf(const test::RoadScene& other) const {
+    cv::Mat colour, depth;
+    other.render(colour, depth);
+    return makeInputs(colour, "bgr8", depth, "16UC1", other.K);
+  }
+
   /// A stamp after every one published so far.
   ros::Time nextStamp() {
     ros::Time t = ros::Time::now();
@@ -218,6 +227,11 @@ class Harness {
   double lateral(const geometry_msgs::Point& p) const { return target_frame.empty() ? p.x : -p.y; }
   /// Distance along the road of a point in the output frame.
   double forward(const geometry_msgs::Point& p) const { return target_frame.empty() ? p.z : p.x; }
+  /// Frame of lane_model: base_link when the test broadcasts it, else the road-aligned frame the
+  /// nodelet falls back to (and broadcasts) under the camera.
+  std::string modelFrame() const {
+    return target_frame.empty() ? std::string(kOpticalFrame) + "_road" : target_frame;
+  }
   std::string outputFrame() const { return target_frame.empty() ? kOpticalFrame : target_frame; }
 
   /// base_link -> optical frame of the rendered camera (height camera_height, pitched down).
@@ -335,9 +349,13 @@ struct Outputs {
   Collector<LaneMarkings> markings;
   Collector<sensor_msgs::PointCloud2> points;
   Collector<visualization_msgs::MarkerArray> markers;
+  Collector<LaneModel> model;
+  Collector<nav_msgs::Path> centre;
   Collector<sensor_msgs::Image> left, right, geometric, debug;
   void subscribeAll(ros::NodeHandle& nh) {
     plane.subscribe(nh, "lane_plane");
+    model.subscribe(nh, "lane_model");
+    centre.subscribe(nh, "lane_centre_line");
     markings.subscribe(nh, "lane_markings");
     points.subscribe(nh, "lane_points");
     markers.subscribe(nh, "lane_visualization");

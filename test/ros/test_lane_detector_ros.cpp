@@ -96,6 +96,11 @@ TEST(LaneDetectorRos, LazySubscription) {
        [&](bool on) { on ? out.points.subscribe(g->nh, "lane_points") : out.points.shutdown(); }},
       {"debug_image",
        [&](bool on) { on ? out.debug.subscribe(g->nh, "debug_image") : out.debug.shutdown(); }},
+      {"lane_model",
+       [&](bool on) { on ? out.model.subscribe(g->nh, "lane_model") : out.model.shutdown(); }},
+      {"lane_centre_line", [&](bool on) {
+         on ? out.centre.subscribe(g->nh, "lane_centre_line") : out.centre.shutdown();
+       }},
       {"response/geometric", [&](bool on) {
          on ? out.geometric.subscribe(g->nh, "response/geometric") : out.geometric.shutdown();
        }}};
@@ -120,7 +125,8 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
       return m.valid && out.markings.withStamp(m.header.stamp) &&
              out.points.withStamp(m.header.stamp) && out.markers.withStamp(m.header.stamp) &&
              out.left.withStamp(m.header.stamp) && out.right.withStamp(m.header.stamp) &&
-             out.geometric.withStamp(m.header.stamp) && out.debug.withStamp(m.header.stamp);
+             out.geometric.withStamp(m.header.stamp) && out.debug.withStamp(m.header.stamp) &&
+             out.model.withStamp(m.header.stamp) && out.centre.withStamp(m.header.stamp);
     });
     if (plane) stamp = plane->header.stamp;
     return static_cast<bool>(plane);
@@ -214,6 +220,97 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
   EXPECT_EQ(debug->encoding, "bgr8");
   EXPECT_EQ(debug->width, static_cast<uint32_t>(g->scene.width));
   EXPECT_EQ(debug->height, static_cast<uint32_t>(g->scene.height));
+}
+
+// The lane model planners consume, against the rendered road: the vehicle 0.3 m right of the
+// centre of a 3.6 m lane, a dashed white line on the left and a solid one on the right, straight
+// and level. Every frame is answered on lane_model with the image's stamp; after kModelFrames
+// frames the model's geometry, labels, kinds and colours are the road's.
+TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
+  g->prepare();
+  std::string mode;
+  ros::param::param<std::string>(g->detector + "/mode", mode, "improved");
+  if (mode == "paper") GTEST_SKIP() << "paper mode tracks no lane model";
+  test::RoadScene scene = g->scene;
+  scene.lateral_offset = 0.3;  // + right of the lane centre
+  scene.left_dashed = true;
+  const InputSet in = g->inputsOf(scene);
+  Outputs out;
+  out.model.subscribe(g->nh, "lane_model");
+  out.centre.subscribe(g->nh, "lane_centre_line");
+  ASSERT_TRUE(waitFor([&] {
+    return out.model.numPublishers() > 0 && out.centre.numPublishers() > 0 && inputsSubscribed(true);
+  })) << "lane_model / lane_centre_line never connected";
+
+  // frames one after another, each answered before the next (a frame the synchroniser loses is
+  // sent again with a new stamp)
+  constexpr int kModelFrames = 15;
+  LaneModel::ConstPtr model;
+  nav_msgs::Path::ConstPtr centre;
+  int answered = 0;
+  ASSERT_TRUE(waitFor([&] {
+    const ros::Time stamp = g->publish(in);
+    if (!waitFor([&] { return out.model.withStamp(stamp) && out.centre.withStamp(stamp); }, nullptr,
+                 kPaceTimeout * 3))
+      return false;
+    model = out.model.withStamp(stamp);
+    centre = out.centre.withStamp(stamp);
+    return ++answered >= kModelFrames;
+  })) << answered << " of " << kModelFrames << " frames answered on lane_model";
+
+  // stamped with the image, in the model frame (base_link via tf, else the road frame)
+  EXPECT_EQ(model->header.frame_id, g->modelFrame());
+  EXPECT_EQ(model->centre_line.header.frame_id, g->modelFrame());
+  EXPECT_EQ(model->centre_line.header.stamp, model->header.stamp);
+  EXPECT_EQ(centre->header.stamp, model->header.stamp);
+  EXPECT_EQ(centre->header.frame_id, model->header.frame_id);
+  ASSERT_TRUE(model->valid);
+  // REP-103: y left; the centre 0.3 m left of the vehicle, which is right of it (offset < 0)
+  const double w = scene.lane_width, d = scene.lateral_offset;
+  EXPECT_NEAR(model->width, w, 0.1);
+  EXPECT_NEAR(model->lateral_offset, -d, 0.1);
+  EXPECT_NEAR(model->heading_error, 0.0, 0.02);
+  EXPECT_NEAR(model->curvature, 0.0, 1e-3);
+  EXPECT_EQ(model->lane_changes, 0);
+  ASSERT_EQ(model->boundaries.size(), 2u) << "two lines on the road: the ego lane's";
+  const LaneBoundary* left = nullptr;
+  const LaneBoundary* right = nullptr;
+  for (const LaneBoundary& b : model->boundaries) {
+    if (b.position == LaneBoundary::EGO_LEFT) left = &b;
+    if (b.position == LaneBoundary::EGO_RIGHT) right = &b;
+  }
+  ASSERT_TRUE(left && right) << "ego_left and ego_right";
+  const struct {
+    const LaneBoundary* b;
+    double c0;
+    uint8_t kind;
+  } expected[] = {{left, 0.5 * w + d, LaneBoundary::KIND_DASHED},
+                  {right, -0.5 * w + d, LaneBoundary::KIND_SOLID}};
+  for (const auto& e : expected) {
+    const LaneBoundary& b = *e.b;
+    SCOPED_TRACE(b.position == LaneBoundary::EGO_LEFT ? "ego_left" : "ego_right");
+    EXPECT_NEAR(b.c0, e.c0, 0.1);
+    EXPECT_NEAR(b.c1, 0.0, 0.02);
+    EXPECT_NEAR(2.0 * b.c2, 0.0, 1e-3) << "curvature";
+    EXPECT_NEAR(b.c0 + 20.0 * (b.c1 + 20.0 * (b.c2 + 20.0 * b.c3)), e.c0, 0.15) << "at 20 m";
+    EXPECT_EQ(b.kind, e.kind);
+    EXPECT_EQ(b.colour, LaneBoundary::COLOUR_WHITE);
+    EXPECT_LT(b.x_min, 5.0);
+    EXPECT_GT(b.x_max, 15.0);
+    EXPECT_GT(b.confidence, 0.5f);
+    EXPECT_LE(b.confidence, 1.0f);
+    EXPECT_GT(b.lateral_std, 0.0f);
+    EXPECT_LE(b.lateral_std, 0.15f);
+  }
+  // the centre line: near to far, midway between the two lines
+  ASSERT_GE(model->centre_line.poses.size(), 2u);
+  ASSERT_EQ(centre->poses.size(), model->centre_line.poses.size());
+  double previous = -1.0;
+  for (const auto& p : model->centre_line.poses) {
+    EXPECT_GT(p.pose.position.x, previous);
+    previous = p.pose.position.x;
+    EXPECT_NEAR(p.pose.position.y, d, 0.15) << "at x = " << p.pose.position.x;
+  }
 }
 
 TEST(LaneDetectorRos, EveryColourEncodingAndFloatDepth) {

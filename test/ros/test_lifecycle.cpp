@@ -173,9 +173,7 @@ TEST(Lifecycle, ResolutionChangeReplansEveryBuffer) {
   half.width /= 2;
   half.height /= 2;
   half.K = Intrinsics{g->scene.K.fx / 2, g->scene.K.fy / 2, g->scene.K.cx / 2, g->scene.K.cy / 2};
-  cv::Mat bgr, depth_mm;
-  half.render(bgr, depth_mm);
-  const InputSet small = g->makeInputs(bgr, "bgr8", depth_mm, "16UC1", half.K);
+  const InputSet small = g->inputsOf(half);
   Outputs out;
   out.plane.subscribe(g->nh, "lane_plane");
   out.left.subscribe(g->nh, "response/left");

@@ -1,7 +1,9 @@
 // evaluate_sequences: Table-1 evaluation of the detector modes on sequences with lane ground
 // truth (METHOD.md section 6 generalised to sides reported separately with a kind: scoring.h),
 // plus real data without it (KITTI plane check against the LiDAR depth, TUM frames without any
-// lane). Writes a Markdown report, a per-frame CSV and an overlay picture per sequence.
+// lane). Writes a Markdown report, a per-frame CSV and an overlay picture per sequence; the lane
+// model (issue 14) is scored against the true lane model (lane_model_scoring.h) into its own
+// Markdown report and per-boundary CSV.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +22,7 @@
 #include "rgbd_lane_detector_tools/command_line.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 #include "rgbd_lane_detector_tools/detector_setup.h"
+#include "rgbd_lane_detector_tools/lane_model_report.h"
 #include "rgbd_lane_detector_tools/params_io.h"
 #include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/progress.h"
@@ -116,6 +119,7 @@ int main(int argc, char** argv) {
   std::string modes_arg = "paper,improved,paper-colour,improved-colour", params_file;
   std::string out_dir = "build/eval", markdown, csv_path, images_dir;
   std::string picture_modes = "paper,improved";
+  std::string model_modes = "improved", model_markdown, model_csv_path, model_suffix;
   int picture_frame = -1, max_frames = -1;
   bool quiet = false;
   tools::CommandLine cl(
@@ -145,6 +149,16 @@ int main(int argc, char** argv) {
   cl.add("picture-frame", "frame of each sequence drawn in the picture (default: middle)",
          &picture_frame);
   cl.add("max-frames", "use at most N frames per sequence", &max_frames);
+  cl.add("lane-model-modes",
+         "comma-separated modes whose lane model is scored against the true lane model "
+         "(default improved)",
+         &model_modes);
+  cl.add("lane-model-markdown", "Markdown of the lane-model scores (default <out>/lane_model.md)",
+         &model_markdown);
+  cl.add("lane-model-csv", "per-boundary CSV of the lane model (default <out>/lane_model.csv)",
+         &model_csv_path);
+  cl.add("lane-model-suffix", "text appended to the lane-model section titles (e.g. ', seed 2')",
+         &model_suffix);
   cl.addFlag("quiet", "no progress bars", &quiet);
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
@@ -213,16 +227,21 @@ int main(int argc, char** argv) {
   if (markdown.empty()) markdown = (fs::path(out_dir) / "results.md").string();
   if (csv_path.empty()) csv_path = (fs::path(out_dir) / "per_frame.csv").string();
   if (images_dir.empty()) images_dir = (fs::path(out_dir) / "images").string();
+  if (model_markdown.empty()) model_markdown = (fs::path(out_dir) / "lane_model.md").string();
+  if (model_csv_path.empty()) model_csv_path = (fs::path(out_dir) / "lane_model.csv").string();
   std::error_code ec;
-  for (const std::string& d : {out_dir, images_dir, fs::path(markdown).parent_path().string(),
-                               fs::path(csv_path).parent_path().string()}) {
+  for (const std::string& d :
+       {out_dir, images_dir, fs::path(markdown).parent_path().string(),
+        fs::path(csv_path).parent_path().string(), fs::path(model_markdown).parent_path().string(),
+        fs::path(model_csv_path).parent_path().string()}) {
     if (!d.empty()) fs::create_directories(d, ec);
   }
-  std::ofstream csv(csv_path);
-  if (!csv) {
-    std::cerr << "evaluate_sequences: cannot write " << csv_path << "\n";
+  std::ofstream csv(csv_path), model_csv(model_csv_path);
+  if (!csv || !model_csv) {
+    std::cerr << "evaluate_sequences: cannot write " << (csv ? model_csv_path : csv_path) << "\n";
     return 1;
   }
+  tools::LaneModelReport model_report(&model_csv);
   csv << "sequence,mode,frame,outcome,lane_required,reported,plane_valid,plane_ok,"
          "angle_error_deg,offset_error";
   for (const char* side : {"left", "right"})
@@ -281,6 +300,10 @@ int main(int argc, char** argv) {
     std::vector<cv::Mat> pictures(modes.size());
     const int total = reader->size();
     const int pic = picture_frame >= 0 ? picture_frame : std::max(0, total / 2);
+    std::vector<bool> score_model(modes.size());
+    for (size_t m = 0; m < modes.size(); ++m)
+      score_model[m] = in.kind == Input::kTruth && truth.has_mount &&
+                       ("," + model_modes + ",").find("," + modes[m].name + ",") != std::string::npos;
     Result r;
     tools::DatasetFrame f;
     tools::ProgressBar progress(in.name, total, !quiet);
@@ -291,7 +314,13 @@ int main(int argc, char** argv) {
       if (in.kind == Input::kKitti) f.referenceRoadPoints(region);
       for (size_t m = 0; m < modes.size(); ++m) {
         if (reader->independentFrames()) detectors[m]->reset();
-        detectors[m]->detect(f.toFrame(), r);
+        Frame frame = f.toFrame();
+        if (truth.has_mount) {
+          // the lane model in base_link through the fixed mount, as the bag's /tf_static gives it
+          frame.has_vehicle_frame = true;
+          frame.vehicle_from_camera = truth.mount;
+        }
+        detectors[m]->detect(frame, r);
         const tools::Detection det = tools::detectionFromResult(r);
         // real data: a lane is reported when a side is (a plane alone is the road surface)
         const bool reported = det.left_reported || det.right_reported;
@@ -301,6 +330,9 @@ int main(int argc, char** argv) {
           if (!t) continue;
           const tools::FrameScore s = tools::scoreFrame(det, *t);
           summaries[m].add(s, r.timings.total);
+          if (score_model[m])
+            model_report.add(in.name, modes[m].name, f.index,
+                             tools::scoreLaneModel(r.lane_model, *t));
           csv << in.name << "," << modes[m].name << "," << f.index << ","
               << tools::outcomeName(s.outcome) << "," << s.lane_required << "," << s.reported
               << "," << s.plane_valid << "," << s.plane_ok << ","
@@ -440,6 +472,12 @@ int main(int argc, char** argv) {
   if (any_real) md << "#### Real data (no lane ground truth)\n\n" << real.str() << "\n";
   if (!md) {
     std::cerr << "evaluate_sequences: cannot write " << markdown << "\n";
+    return 1;
+  }
+  std::ofstream model_md(model_markdown);
+  if (!model_report.empty()) model_report.writeMarkdown(model_md, model_suffix);
+  if (!model_md || !model_csv) {
+    std::cerr << "evaluate_sequences: cannot write " << model_markdown << "\n";
     return 1;
   }
   return 0;

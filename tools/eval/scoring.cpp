@@ -72,37 +72,59 @@ double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector
   return best;
 }
 
-namespace {
-
-// y(x) of a polyline sorted by x, linear between points; NaN outside.
-double interpolateY(std::vector<Eigen::Vector2d>& xy, double x) {
-  std::sort(xy.begin(), xy.end(),
-            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
-  for (size_t i = 0; i + 1 < xy.size(); ++i) {
-    if (x < xy[i].x() || x > xy[i + 1].x()) continue;
-    const double dx = xy[i + 1].x() - xy[i].x();
-    const double w = dx > 0 ? (x - xy[i].x()) / dx : 0.0;
-    return xy[i].y() + w * (xy[i + 1].y() - xy[i].y());
+LateralLine::LateralLine(const std::vector<Eigen::Vector3d>& points,
+                         const Eigen::Isometry3d& base_from_optical) {
+  xy_.reserve(points.size());
+  for (const auto& p : points) {
+    if (!p.allFinite()) continue;
+    const Eigen::Vector3d b = base_from_optical * p;
+    xy_.emplace_back(b.x(), b.y());
   }
-  return kNaN;
+  sort();
 }
 
-}  // namespace
+LateralLine::LateralLine(const std::vector<Eigen::Vector3d>& points_base, double max_gap)
+    : max_gap_(max_gap) {
+  xy_.reserve(points_base.size());
+  for (const auto& p : points_base)
+    if (p.allFinite()) xy_.emplace_back(p.x(), p.y());
+  sort();
+}
+
+void LateralLine::sort() {
+  std::sort(xy_.begin(), xy_.end(),
+            [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); });
+}
+
+double LateralLine::length() const {
+  double sum = 0.0;
+  for (size_t i = 1; i < xy_.size(); ++i) {
+    const double dx = xy_[i].x() - xy_[i - 1].x();
+    if (dx <= max_gap_) sum += dx;
+  }
+  return sum;
+}
+
+double LateralLine::at(double x) const {
+  if (empty() || !(x >= xy_.front().x() && x <= xy_.back().x())) return kNaN;
+  // first point with x >= the query; its predecessor starts the segment
+  const auto it = std::lower_bound(xy_.begin(), xy_.end(), x,
+                                   [](const Eigen::Vector2d& p, double v) { return p.x() < v; });
+  if (it == xy_.begin()) return it->y();
+  const Eigen::Vector2d& a = *(it - 1);
+  const Eigen::Vector2d& b = *it;
+  const double dx = b.x() - a.x();
+  if (dx > max_gap_) return kNaN;
+  const double w = dx > 0 ? (x - a.x()) / dx : 0.0;
+  return a.y() + w * (b.y() - a.y());
+}
 
 double lateralErrorAt(const std::vector<Eigen::Vector3d>& points, const TrueBoundary& truth,
                       const FrameTruth& frame, double x) {
   if (!frame.has_vehicle_frame) return kNaN;
-  std::vector<Eigen::Vector2d> reported, line;
-  for (const auto& p : points) {
-    if (!p.allFinite()) continue;
-    const Eigen::Vector3d b = frame.base_to_camera * p;
-    reported.emplace_back(b.x(), b.y());
-  }
-  for (const auto& p : truth.points) {
-    const Eigen::Vector3d b = frame.base_to_camera * p;
-    line.emplace_back(b.x(), b.y());
-  }
-  return std::fabs(interpolateY(reported, x) - interpolateY(line, x));
+  const LateralLine reported(points, frame.base_to_camera);
+  const LateralLine line(truth.points, frame.base_to_camera);
+  return std::fabs(reported.at(x) - line.at(x));
 }
 
 SideScore scoreSide(const std::vector<Eigen::Vector3d>& points, bool reported, BoundaryKind kind,
@@ -214,13 +236,16 @@ void ScoreSummary::add(const FrameScore& s, double ms) {
   }
 }
 
-double ScoreSummary::lateralPercentile(int k, double q) const {
-  std::vector<double> v = lateral_errors[k];
+double percentile(std::vector<double> v, double q) {
   if (v.empty()) return kNaN;
   const size_t rank = static_cast<size_t>(std::ceil(q / 100.0 * v.size()));
   const size_t i = std::min(v.size() - 1, rank > 0 ? rank - 1 : 0);
   std::nth_element(v.begin(), v.begin() + i, v.end());
   return v[i];
+}
+
+double ScoreSummary::lateralPercentile(int k, double q) const {
+  return percentile(lateral_errors[k], q);
 }
 
 double ScoreSummary::meanAngleError() const {

@@ -61,10 +61,11 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   /// Which outputs have subscribers this frame (lazy publishing).
   struct Wanted {
     bool plane = false, markings = false, points = false, markers = false, model = false;
+    bool centre = false;  ///< lane_centre_line
     bool left = false, right = false, geometric = false, debug = false;
     bool any() const {
-      return plane || markings || points || markers || model || left || right || geometric ||
-             debug;
+      return plane || markings || points || markers || model || centre || left || right ||
+             geometric || debug;
     }
   };
 
@@ -125,7 +126,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   std::mutex connect_mutex_;
 
   // --- outputs -----------------------------------------------------------------------------
-  ros::Publisher pub_plane_, pub_markings_, pub_points_, pub_markers_, pub_model_;
+  ros::Publisher pub_plane_, pub_markings_, pub_points_, pub_markers_, pub_model_, pub_centre_;
   image_transport::Publisher pub_left_, pub_right_, pub_geometric_, pub_debug_;
 
   // --- parameters: written by configCallback, read by frameCallback ------------------------------

@@ -39,10 +39,12 @@
  */
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "rgbd_lane_detector/types.h"
 #include "rgbd_lane_detector_tools/ground_truth.h"
@@ -139,6 +141,31 @@ struct FrameScore {
 double lateralDistance(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& line,
                        const Eigen::Vector3d& normal, double distance);
 
+/// A line as y(x) in base_link (x forward, y left): its points sorted by x, linear between them.
+class LateralLine {
+ public:
+  LateralLine() = default;
+  /// The finite points of @p points (optical frame) mapped by @p base_from_optical.
+  LateralLine(const std::vector<Eigen::Vector3d>& points,
+              const Eigen::Isometry3d& base_from_optical);
+  /// @p points already in base_link; two points more than @p max_gap apart in x leave a gap
+  /// (a line interrupted by an intersection).
+  explicit LateralLine(const std::vector<Eigen::Vector3d>& points_base,
+                       double max_gap = std::numeric_limits<double>::infinity());
+  bool empty() const { return xy_.size() < 2; }
+  double xMin() const { return xy_.empty() ? 0.0 : xy_.front().x(); }
+  double xMax() const { return xy_.empty() ? 0.0 : xy_.back().x(); }
+  /// Length in x over which the line exists (gaps excluded).
+  double length() const;
+  /// y at @p x; NaN outside [xMin(), xMax()] (no extrapolation), in a gap or for an empty line.
+  double at(double x) const;
+
+ private:
+  void sort();
+  std::vector<Eigen::Vector2d> xy_;
+  double max_gap_ = std::numeric_limits<double>::infinity();
+};
+
 /**
  * @brief Lateral error of a side's points at forward distance @p x in base_link (the frame's
  * base_to_camera): |y_points(x) - y_truth(x)|, both polylines interpolated linearly along x.
@@ -161,6 +188,9 @@ SideScore scoreSide(const std::vector<Eigen::Vector3d>& points, bool reported, B
 /// Score one frame (the rules of the file comment).
 FrameScore scoreFrame(const Detection& detection, const FrameTruth& truth,
                       const ScoringRules& rules = ScoringRules());
+
+/// Percentile @p q (0-100, nearest rank) of @p values (NaN when empty).
+double percentile(std::vector<double> values, double q);
 
 /// Running totals over a sequence (one Table 1 row and its per-side statistics).
 struct ScoreSummary {
