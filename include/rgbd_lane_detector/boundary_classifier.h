@@ -111,6 +111,20 @@ class BoundaryClassifier {
                  double max_range, double reach = 0.15);
 
   /**
+   * @brief A double line (two painted lines side by side, 0.1-0.2 m apart) is one boundary at
+   * its centre: on the rows of a followed line where the gap is resolved, a second band of paint
+   * is sought 0.2-0.35 m to either side; when one side shows it on most rows (and the other
+   * side does not), every pixel moves onto the pair's centre.
+   * @param[in] in frame views.
+   * @param[in,out] pixels the followed line (input pixels), near to far.
+   * @param[out] points their depth points (re-read where the pixels moved).
+   * @param[in] p thresholds (paint_contrast, paint_width_max).
+   * @return true when the line was a double line and was moved.
+   */
+  bool centreDoubleLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                        std::vector<Eigen::Vector3f>& points, const Params& p);
+
+  /**
    * @brief Follow a road edge row by row (kerb, unpainted asphalt edge) as followLine() follows
    * paint: on every image row, scanning outward from the road well inside the edge's predicted
    * column, the first stretch of 12 cm that is mostly not road (brighter by the paint contrast,
@@ -203,6 +217,7 @@ class BoundaryClassifier {
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
   std::vector<float> yellow_;  ///< measurePaint(): yellowness per row (measureRow() uses side_)
   std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner
+  std::vector<float> twin_[2];  ///< centreDoubleLine(): offsets (m) of the second band, per side
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
   std::vector<unsigned char> other_;  ///< edgeInRow(): pixels of a row that are not road

@@ -20,6 +20,11 @@ constexpr double kHeightFar = 0.5;
 constexpr float kObjectHeight = 0.3f;        // a line higher than this above the road is an object
 constexpr int kHeightSearch = 3;             // rows up and down a height is sought (sparse depth)
 constexpr double kStepShare = 0.7;           // share of a line's rows that must show its step
+constexpr double kDoublePitch = 0.27;        // m between the two lines of a double line, expected
+constexpr double kDoubleReach = 0.1;         // m: the second line is sought this far around it
+constexpr double kDoubleMin = 0.17;          // m: a second line this near ...
+constexpr double kDoubleMax = 0.4;           // ... to this far makes a double line
+constexpr double kDoubleShare = 0.6;         // share of the measured rows that must show it
 constexpr float kRidgeShare = 0.5f;          // share of measured rows that must show a band
 constexpr int kMinRows = 3;
 constexpr size_t kMaxMeasuredRows = 48;      // rows a classification measures at most
@@ -418,6 +423,51 @@ int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Po
                       const int half = std::min(48, std::max(2, static_cast<int>(std::lround(r * ppm))));
                       return bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre);
                     });
+}
+
+bool BoundaryClassifier::centreDoubleLine(const ClassifierInput& in,
+                                          std::vector<cv::Point2f>& pixels,
+                                          std::vector<Eigen::Vector3f>& points, const Params& p) {
+  if (in.plane == nullptr || !in.plane->valid || pixels.size() < static_cast<size_t>(kMinRows))
+    return false;
+  const Intrinsics& K = in.K;
+  // pixels per metre across the road at an input pixel (0: not on the road)
+  auto ppmAt = [&](const cv::Point2f& c) {
+    const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (c.y - K.cy) / K.fy, 1.0);
+    const double den = in.plane->normal.dot(ray);
+    return den < -1e-9 ? K.fx * (-den) / in.plane->distance : 0.0;
+  };
+  twin_[0].clear();
+  twin_[1].clear();
+  int measured = 0;
+  const size_t stride = (pixels.size() + kMaxMeasuredRows - 1) / kMaxMeasuredRows;
+  for (size_t i = 0; i < pixels.size(); i += stride) {
+    const cv::Point2f& c = pixels[i];
+    const double ppm = ppmAt(c);
+    if (ppm < kWidthPixelsPerMetre) continue;  // the gap is not resolved
+    ++measured;
+    const int half = std::max(2, static_cast<int>(std::lround(kDoubleReach * ppm)));
+    const int v = static_cast<int>(std::lround(c.y));
+    for (int s = 0; s < 2; ++s) {
+      const double probe = c.x + (s == 0 ? -1.0 : 1.0) * kDoublePitch * ppm;
+      double twin;
+      if (!bandCentre(in, v, probe, half, p.paint_width_max * ppm + 2.0, p, twin)) continue;
+      const double offset = (twin - c.x) / ppm;
+      if (std::fabs(offset) >= kDoubleMin && std::fabs(offset) <= kDoubleMax)
+        twin_[s].push_back(static_cast<float>(offset));
+    }
+  }
+  if (measured < kMinRows) return false;
+  const int s = twin_[0].size() >= twin_[1].size() ? 0 : 1;
+  if (twin_[s].size() < kDoubleShare * measured || twin_[1 - s].size() > 0.2 * measured)
+    return false;
+  const float offset = median(twin_[s]);  // metres across the road to the second line
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    pixels[i].x += static_cast<float>(0.5 * offset * ppmAt(pixels[i]));
+    points[i] = pointAt(in, static_cast<int>(std::lround(pixels[i].x)),
+                        static_cast<int>(std::lround(pixels[i].y)));
+  }
+  return true;
 }
 
 int BoundaryClassifier::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,

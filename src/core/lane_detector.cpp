@@ -465,6 +465,7 @@ void LaneDetector::classifyCandidates(const Frame& frame) {
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
                                params_.max_depth);
+        classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
         // followed into the depth tells it again (a kerb's bright top is no paint)
         if (!std::isfinite(c.evidence.line_height))

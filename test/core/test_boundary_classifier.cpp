@@ -304,6 +304,30 @@ TEST(BoundaryClassifier, FollowLineCentresOnThePaintAndCrossesDashGaps) {
   for (size_t i = 1; i < px.size(); ++i) EXPECT_LT(px[i].y, px[i - 1].y);  // near to far
 }
 
+TEST(BoundaryClassifier, ADoubleLineIsOneBoundaryAtItsCentre) {
+  // two 0.12 m yellow lines 0.13 m apart centred at x = -1.8 (centres at -1.925 and -1.675)
+  CrossSection cs;
+  cs.colour = [](double x, double) {
+    return std::fabs(x + 1.925) < 0.06 || std::fabs(x + 1.675) < 0.06 ? cv::Vec3b(204, 158, 36)
+                                                                        : grey(90);
+  };
+  Fixture f;
+  f.classify(cs, linePixels(-1.675), true);  // traced on the inner line
+  std::vector<cv::Point2f> px = linePixels(-1.675);
+  std::vector<Eigen::Vector3f> pts(px.size());
+  ASSERT_TRUE(f.classifier.centreDoubleLine(f.in, px, pts, Params::improved()));
+  for (const auto& c : px) EXPECT_NEAR(roadLateral(c), -1.8, 0.03) << c;
+  EXPECT_TRUE(pts.front().allFinite());
+  // a single line stays where it is
+  CrossSection single;
+  single.colour = [](double x, double) { return std::fabs(x + 1.8) < 0.075 ? grey(220) : grey(90); };
+  Fixture g;
+  g.classify(single, linePixels(-1.8), true);
+  std::vector<cv::Point2f> one = linePixels(-1.8);
+  EXPECT_FALSE(g.classifier.centreDoubleLine(g.in, one, pts, Params::improved()));
+  for (const auto& c : one) EXPECT_NEAR(roadLateral(c), -1.8, 1e-3) << c;
+}
+
 TEST(BoundaryClassifier, FollowEdgeFindsWhereTheRoadEnds) {
   // a kerb at x = 1.8 whose top (light stones) was traced 10 cm beyond the edge, 8-12 m ahead;
   // leaves scattered in the gutter 0.3 m inside it are no edge
