@@ -9,13 +9,13 @@
 
 #include <opencv2/core.hpp>
 
+#include "rgbd_lane_detector/boundary_candidates.h"
 #include "rgbd_lane_detector/boundary_classifier.h"
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/lane_fitter.h"
 #include "rgbd_lane_detector/lane_model.h"
 #include "rgbd_lane_detector/line_template.h"
 #include "rgbd_lane_detector/params.h"
-#include "rgbd_lane_detector/road_edge_finder.h"
 #include "rgbd_lane_detector/road_surface.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "rgbd_lane_detector/types.h"
@@ -74,8 +74,7 @@ class LaneDetector {
    * @return the candidates (valid until the next detect() or setParams()).
    */
   const BoundaryCandidate* candidates(int side, int& count) const {
-    count = candidate_count_[side];
-    return candidates_[side].data();
+    return finder_.candidates(side, count);
   }
 
   /// Templates that the next detect() will use.
@@ -91,22 +90,8 @@ class LaneDetector {
   /// missing (fillFromRoadPlane()).
   void fitRoadSurface();
   void computeResponses();
-  /// Trace up to boundary_candidates lines of one side whose seeds are the best matches of
-  /// @p R off the lines already traced, appended to candidates_[side].
-  void findCandidates(int side, cv::Mat& R);
-  void classifyCandidates(const Frame& frame);
-  /// The classifier's view of this frame on @p plane (classifier_input_).
-  const ClassifierInput& classifierInput(const Frame& frame, const PlaneEstimate& plane);
-  /// A tracked painted side is also sought where its model predicts it, row by row: the
-  /// template's seeds can miss a line whose image angle changes fast (a lane change).
-  void followPredictedLines();
-  /// A candidate of @p side classified as @p kind lies within @p reach of the line
-  /// lateral(forward) (road-plane coordinates of @p frame) over most of its points.
-  template <typename Lateral>
-  bool candidateOnLine(int side, BoundaryKind kind, const PlaneFrame& frame, double reach,
-                       Lateral&& lateral) const;
-  /// Road edges the depth shows (RoadEdgeFinder) that no traced line found: candidates too.
-  void addRoadEdgesFromDepth(const Frame& frame);
+  /// The frame as the candidate search sees it (candidate_frame_).
+  const CandidateFrame& candidateFrame(const Frame& frame);
   /// Paint coverage (dashed / solid) and colour of every reported painted boundary.
   void measurePaint(const Frame& frame, Result& result);
   /// lane_model: the Kalman filter of the lane in the vehicle frame.
@@ -117,24 +102,6 @@ class LaneDetector {
   void applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat& right);
   /// acquisition_angle_deg: match the steeper templates for the sides without a tracked line.
   void computeAcquisitionResponses();
-  /// road_gate: true when the surface normal at a processing pixel is known and not road-like.
-  bool offRoad(const cv::Point& pixel) const;
-  /// Best match of @p R in its side's search area (near the predicted boundary first); value 0
-  /// when nothing is left.
-  void findBestMatch(const cv::Mat& R, bool left, cv::Point& peak, float& value);
-  /// Columns near a side's predicted marker, per row of @p area (band_lo_/band_hi_);
-  /// false: no prediction.
-  bool predictedBand(int side, const cv::Rect& area);
-  bool plausibleMarkerAngle(double angle, bool left) const;
-  void buildTrace(const cv::Mat& R, const cv::Point& peak, float peak_value, double angle,
-                  MarkerTrace& trace);
-  /// Zero R around a seed for the next seed search (restore_ keeps the values).
-  void excludeBox(cv::Mat& R, const cv::Point& centre);
-  /// excludeBox() along a traced line and its seed.
-  void excludeTrace(cv::Mat& R, const MarkerTrace& trace, const cv::Point& peak);
-  /// 3D point of a processing-image pixel: its own, else the nearest valid depth in its box
-  /// on the pixel's ray, else NaN (never a zero depth).
-  Eigen::Vector3f pointAt(const cv::Point2f& c) const;
   void updateTemplates(const Result& result);
 
   Params params_;
@@ -175,22 +142,13 @@ class LaneDetector {
   std::array<bool, 2> acquiring_{{false, false}};
   RoadSurface road_surface_;
   PlaneEstimate road_;
-  BoundaryClassifier classifier_;
-  RoadEdgeFinder edge_finder_;
-  std::array<RoadEdgeLine, 2> depth_edges_;
-  ClassifierInput classifier_input_;
+  CandidateFrame candidate_frame_;
+  BoundaryCandidateFinder finder_;
+  BoundaryClassifier paint_classifier_;  ///< measurePaint()
+  ClassifierInput paint_input_;
   LaneFitter fitter_;
   LaneModelFilter lane_model_;
   std::array<BoundaryObservation, 6> observations_;
-  std::array<std::vector<BoundaryCandidate>, 2> candidates_;
-  std::array<int, 2> candidate_count_{{0, 0}};
-  std::vector<std::pair<float*, float>> restore_;  ///< R values zeroed by the candidate search
-  std::vector<cv::Point> pca_stack_;
-  std::vector<uint8_t> pca_visited_;
-  std::vector<cv::Point2f> trace_pixels_;
-  std::vector<float> trace_scores_;
-  std::vector<Eigen::Vector3f> samples_;
-  std::vector<int> band_lo_, band_hi_;
   std::vector<int> row_histogram_;
 };
 

@@ -27,13 +27,14 @@ namespace rgbd_lane_detector {
 
 /// Settings of the road edge search (from Params and the frame's geometry).
 struct RoadEdgeSettings {
-  double kerb_height = 0.05;   ///< a step at least this high ends the road (m)
-  double max_step = 0.35;      ///< a surface higher than this beyond it is an object, not a sidewalk (m)
-  double offset_min = 0.15;    ///< a road edge lies at least this far beside the camera (m)
-  double offset_max = 4.5;     ///< ... and at most this far
-  double max_range = 25.0;     ///< rows whose road is farther ahead are not searched (m)
+  double kerb_height = 0.05;  ///< a step at least this high ends the road (m)
+  double max_step =
+      0.35;  ///< a surface higher than this beyond it is an object, not a sidewalk (m)
+  double offset_min = 0.15;            ///< a road edge lies at least this far beside the camera (m)
+  double offset_max = 4.5;             ///< ... and at most this far
+  double max_range = 25.0;             ///< rows whose road is farther ahead are not searched (m)
   double min_pixels_per_metre = 12.0;  ///< rows coarser than this are not searched (input px)
-  int normal_window = 5;       ///< FALS window of the normal that tells a level sidewalk (px)
+  int normal_window = 5;  ///< FALS window of the normal that tells a level sidewalk (px)
 };
 
 /// One side's road edge found in the depth: input-image pixels and their depth points.

@@ -8,21 +8,21 @@
 namespace rgbd_lane_detector {
 namespace {
 
-constexpr double kRoadBand = 0.04;     // m: a point this near the plane is road
-constexpr int kRoadRun = 3;            // road points a row needs inside its edge
-constexpr int kRaisedRun = 3;          // raised points that make the step
-constexpr double kLineGate = 0.15;     // m: a row's edge this near the side's line is on it
-constexpr int kMinRows = 8;            // rows on the line that make an edge
-constexpr double kRowSpacing = 0.25;   // m of road between the rows searched at least
-constexpr double kColumnSpacing = 0.04; // m across the road between the columns searched
-constexpr double kMinLength = 3.0;     // m of road along which they lie
-constexpr double kMaxHeading = 0.35;   // rad: an edge runs along the road
-constexpr float kSidewalkCheck = 0.3f; // m beyond a step that must stay at a sidewalk's height
-constexpr float kMaxCamber = 0.15f;    // m: road this far below or above the plane (camber)
-constexpr float kCamberGain = 0.3f;    // gain of the road's running height along a row
-constexpr float kLevelNear = 0.15f;    // m beyond a step where its top's normal is read ...
-constexpr float kLevelFar = 0.6f;      // ... at the latest
-constexpr double kLevelAngle = 0.44;   // rad (25 deg): a sidewalk's top is that level at least
+constexpr double kRoadBand = 0.04;       // m: a point this near the plane is road
+constexpr int kRoadRun = 3;              // road points a row needs inside its edge
+constexpr int kRaisedRun = 3;            // raised points that make the step
+constexpr double kLineGate = 0.15;       // m: a row's edge this near the side's line is on it
+constexpr int kMinRows = 8;              // rows on the line that make an edge
+constexpr double kRowSpacing = 0.25;     // m of road between the rows searched at least
+constexpr double kColumnSpacing = 0.04;  // m across the road between the columns searched
+constexpr double kMinLength = 3.0;       // m of road along which they lie
+constexpr double kMaxHeading = 0.35;     // rad: an edge runs along the road
+constexpr float kSidewalkCheck = 0.3f;   // m beyond a step that must stay at a sidewalk's height
+constexpr float kMaxCamber = 0.15f;      // m: road this far below or above the plane (camber)
+constexpr float kCamberGain = 0.3f;      // gain of the road's running height along a row
+constexpr float kLevelNear = 0.15f;      // m beyond a step where its top's normal is read ...
+constexpr float kLevelFar = 0.6f;        // ... at the latest
+constexpr double kLevelAngle = 0.44;     // rad (25 deg): a sidewalk's top is that level at least
 
 // The surface from column @p x0 outward (step @p step) up to kSidewalkCheck metres beyond the
 // lateral position @p x_edge: every measured point at most @p max_step above the plane.
@@ -65,8 +65,8 @@ bool levelBeyond(const cv::Mat& points, const cv::Mat* filled, int x0, int y, in
 
 void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv::Range& rows,
                           const Intrinsics& K, const cv::Mat& col_map, const cv::Mat& row_map,
-                          const PlaneEstimate& plane, const RoadEdgeSettings& s,
-                          RoadEdgeLine& left, RoadEdgeLine& right) {
+                          const PlaneEstimate& plane, const RoadEdgeSettings& s, RoadEdgeLine& left,
+                          RoadEdgeLine& right) {
   for (RoadEdgeLine* e : {&left, &right}) {
     e->found = false;
     e->pixels.clear();
@@ -88,7 +88,7 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
   const float max_step = static_cast<float>(s.max_step);
   const float road_band = std::max(static_cast<float>(kRoadBand), 0.5f * kerb);
   const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, points.rows);
-  double searched = -1.0;  // road distance of the last row searched
+  double searched = -1.0;               // road distance of the last row searched
   for (int y = r1 - 1; y >= r0; --y) {  // near to far
     // the road's distance on this row, and how finely the input image resolves it across
     const double ry = ((rm ? rm[y] : y) - K.cy) / K.fy;
@@ -102,7 +102,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
     const cv::Vec3f* row = points.ptr<cv::Vec3f>(y);
     const uint8_t* fill = filled ? filled->ptr<uint8_t>(y) : nullptr;
     // columns kColumnSpacing of road apart (processing pixels per metre across this row)
-    const double ppm = K.fx / depth * (cm ? static_cast<double>(points.cols) / (cm[points.cols - 1] + 1) : 1.0);
+    const double ppm =
+        K.fx / depth * (cm ? static_cast<double>(points.cols) / (cm[points.cols - 1] + 1) : 1.0);
     const int stride = std::max(1, static_cast<int>(kColumnSpacing * ppm));
     for (int side = 0; side < 2; ++side) {
       const int step = side == 0 ? -stride : stride;
@@ -137,7 +138,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
                             frame.toPlane(Eigen::Vector3d(b[0], b[1], b[2])));
             // a sidewalk stays low beyond its kerb, and its top is level; a car's or a truck's
             // side rises, its rear face is vertical
-            if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local, max_step) &&
+            if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local,
+                               max_step) &&
                 levelBeyond(points, filled, first_raised, y, step, K, col_map, row_map, plane, s))
               edges_[side].push_back(e);
             break;

@@ -1,0 +1,161 @@
+/**
+ * @file boundary_candidates.h
+ * @brief Stages 7-8: each side's candidate boundaries of one frame, and what each one is.
+ *
+ * The paper's search: the best match of each side's response map R is a seed, its PCA angle
+ * the marker's direction, the sliding box its trace (METHOD.md section 3). The improved mode
+ * traces several lines per side (the next best seeds off the lines already traced: a kerb or a
+ * rail may outscore the paint beside it), seeks seeds near the tracked boundaries first, adds
+ * the tracked painted line followed where the lane model predicts it (a lane change turns lines
+ * faster than the templates follow) and the road edges the depth shows (RoadEdgeFinder), and
+ * classifies every candidate (BoundaryClassifier: paint, road edge, no boundary), following
+ * painted lines and road edges row by row on the image. The lane fit (LaneFitter) then chooses
+ * each side's boundary among them.
+ */
+#pragma once
+
+#include <array>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/boundary_classifier.h"
+#include "rgbd_lane_detector/lane_fitter.h"
+#include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/road_edge_finder.h"
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/// The frame as the candidate search sees it (views onto the detector's buffers; nothing is
+/// copied). Pixel coordinates of traces are input-image pixels; the maps and points are at the
+/// processing scale.
+struct CandidateFrame {
+  const cv::Mat* colour = nullptr;  ///< input colour image
+  PixelFormat format = PixelFormat::kBgr8;
+  const cv::Mat* grey = nullptr;  ///< grey of the input image, valid in grey_rows
+  cv::Range grey_rows;
+  Intrinsics K;         ///< of the input image
+  cv::Size input_size;  ///< input image size
+  cv::Size proc_size;   ///< processing image size
+  cv::Rect roi;         ///< searched rows at the processing scale
+  cv::Range roi_rows;
+  const cv::Mat* col_map = nullptr;     ///< source column of each processing column (empty: none)
+  const cv::Mat* row_map = nullptr;     ///< source row of each processing row (empty: none)
+  const cv::Mat* points = nullptr;      ///< CV_32FC3 organised points at the processing scale
+  const cv::Mat* filled = nullptr;      ///< road plane extended over missing depth (may be null)
+  const PlaneEstimate* road = nullptr;  ///< this frame's road plane from depth (may be invalid)
+  const LaneFitter* fitter = nullptr;   ///< the tracked lane (predictions, previous plane)
+  std::array<double, 2> template_angle{{0.0, 0.0}};  ///< each side's template angle (rad)
+};
+
+/**
+ * @brief The classifier's view of a candidate frame on @p plane.
+ * @param[in] f the frame.
+ * @param[in] plane the road plane the classifier measures heights and widths against.
+ * @param[out] in the classifier's input (views).
+ */
+void classifierInputOf(const CandidateFrame& f, const PlaneEstimate& plane, ClassifierInput& in);
+
+/**
+ * @brief Finds and classifies one frame's candidate boundaries. Reuses its buffers: no
+ * allocation in steady state.
+ */
+class BoundaryCandidateFinder {
+ public:
+  /// Replace the parameters (already sanitised).
+  void setParams(const Params& params) { params_ = params; }
+
+  /// Start a frame: no candidates.
+  void clear() {
+    counts_ = {0, 0};
+    pca_ms_ = tracing_ms_ = 0.0;
+  }
+
+  /**
+   * @brief Trace up to boundary_candidates lines of one side whose seeds are the best matches
+   * of @p R off the lines already traced (on this or an earlier map of the side), appended to
+   * the side's candidates.
+   * @param[in] f the frame.
+   * @param[in] side 0 left, 1 right.
+   * @param[in,out] R the side's response map: zeroed around traced lines during the search,
+   *                restored afterwards (but for matches the road gate removes for good).
+   */
+  void traceLines(const CandidateFrame& f, int side, cv::Mat& R);
+
+  /**
+   * @brief Classify the traced lines (following paint and road edges on the image), then add
+   * the tracked painted lines followed where they are predicted and the road edges the depth
+   * shows that no traced line found. Without a road plane, or with classify_boundaries off,
+   * every traced line is taken as paint (the paper's view).
+   * @param[in] f the frame.
+   */
+  void classify(const CandidateFrame& f);
+
+  /// Candidates of side @p side (count in @p count), best seed first.
+  const BoundaryCandidate* candidates(int side, int& count) const {
+    count = counts_[side];
+    return candidates_[side].data();
+  }
+  /// The candidate arrays and counts, for the lane fit.
+  std::array<std::vector<BoundaryCandidate>, 2>& candidates() { return candidates_; }
+  const std::array<int, 2>& counts() const { return counts_; }
+
+  /// Time of this frame's seed search and PCA, and of its tracing (ms, wall clock).
+  double pcaMs() const { return pca_ms_; }
+  double tracingMs() const { return tracing_ms_; }
+
+ private:
+  /// Zero R around a seed for the next seed search (restore_ keeps the values).
+  void excludeBox(const CandidateFrame& f, cv::Mat& R, const cv::Point& centre);
+  /// excludeBox() along a traced line and its seed.
+  void excludeTrace(const CandidateFrame& f, cv::Mat& R, const MarkerTrace& trace,
+                    const cv::Point& peak);
+  /// Best match of @p R in its side's search area (near the predicted boundary first); value 0
+  /// when nothing is left.
+  void findBestMatch(const CandidateFrame& f, const cv::Mat& R, bool left, cv::Point& peak,
+                     float& value);
+  /// Columns near a side's predicted marker, per row of @p area (band_lo_/band_hi_);
+  /// false: no prediction.
+  bool predictedBand(const CandidateFrame& f, int side, const cv::Rect& area);
+  bool plausibleMarkerAngle(double angle, bool left) const;
+  /// road_gate: true when the surface normal at a processing pixel is known and not road-like.
+  bool offRoad(const CandidateFrame& f, const cv::Point& pixel) const;
+  void buildTrace(const CandidateFrame& f, const cv::Mat& R, const cv::Point& peak,
+                  float peak_value, double angle, MarkerTrace& trace);
+  /// 3D point of a processing-image pixel: its own, else the nearest valid depth in its box
+  /// on the pixel's ray, else NaN (never a zero depth).
+  Eigen::Vector3f pointAt(const CandidateFrame& f, const cv::Point2f& c) const;
+  /// A candidate of @p side classified as @p kind lies within @p reach of the line
+  /// lateral(forward) (road-plane coordinates of @p frame) over most of its points.
+  template <typename Lateral>
+  bool candidateOnLine(const CandidateFrame& f, int side, BoundaryKind kind,
+                       const PlaneFrame& frame, double reach, Lateral&& lateral) const;
+  /// A tracked painted side is also sought where its model predicts it, row by row: the
+  /// template's seeds can miss a line whose image angle changes fast (a lane change).
+  void followPredictedLines(const CandidateFrame& f);
+  /// Road edges the depth shows (RoadEdgeFinder) that no traced line found.
+  void addRoadEdgesFromDepth(const CandidateFrame& f);
+  /// The next free candidate of @p side (the array grows on the first frames only).
+  BoundaryCandidate& next(int side);
+
+  Params params_;
+  std::array<std::vector<BoundaryCandidate>, 2> candidates_;
+  std::array<int, 2> counts_{{0, 0}};
+  BoundaryClassifier classifier_;
+  ClassifierInput classifier_input_;
+  RoadEdgeFinder edge_finder_;
+  std::array<RoadEdgeLine, 2> depth_edges_;
+  double pca_ms_ = 0.0, tracing_ms_ = 0.0;
+  std::vector<std::pair<float*, float>> restore_;  ///< R values zeroed by the search
+  std::vector<cv::Point> pca_stack_;
+  std::vector<uint8_t> pca_visited_;
+  std::vector<cv::Point2f> trace_pixels_;
+  std::vector<float> trace_scores_;
+  std::vector<Eigen::Vector3f> samples_;
+  std::vector<int> band_lo_, band_hi_;
+};
+
+}  // namespace rgbd_lane_detector
