@@ -2,6 +2,7 @@
 // generated road frames at 640x380 and 1280x760, single-threaded unless a name says otherwise.
 // scripts/bench.sh runs it and writes docs/PERFORMANCE.md from its JSON output.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -20,6 +21,7 @@
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "road_frames.h"
+#include "simd.h"
 
 namespace rgbd_lane_detector {
 namespace bench {
@@ -32,7 +34,7 @@ struct Data {
   int width = 0, height = 0;
   std::vector<RoadFrame> frames;
   Params params = Params::paper();  ///< the paper mode, the OpenCV pipeline's configuration
-  LineTemplate left, right;  ///< templates detect() uses after warm-up (adapted angles)
+  LineTemplate left, right;         ///< templates detect() uses after warm-up (adapted angles)
   cv::Rect roi;
 };
 
@@ -112,6 +114,34 @@ void timeDetect(benchmark::State& state, Data& d, const Params& params) {
     det.detect(d.frames[i++ % kFrames].frame(), r);
     benchmark::DoNotOptimize(r.plane.distance);
   }
+  setLabel(state, d);
+}
+
+// detect() forced onto one SIMD target (simd.h), paper mode, single thread: every target of this
+// machine against the OpenCV pipeline in the same run.
+void BM_DetectOn(benchmark::State& state, simd::Target target) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  simd::forceTarget(target);
+  timeDetect(state, d, d.params);
+  simd::forceTarget(simd::kBest);
+}
+
+// The first detect() of a new detector (a start; a resolution change is the same), with or
+// without LaneDetector::prepare() on the camera's size and intrinsics before it (as the nodelet
+// does on camera_info). Only detect() is timed; steady state is BM_Detect.
+void BM_FirstFrame(benchmark::State& state, bool prepared) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  const Frame f = d.frames[0].frame();
+  for (auto _ : state) {
+    auto det = std::make_unique<LaneDetector>(d.params);
+    if (prepared) det->prepare(f.colour.size(), f.intrinsics, f.format);
+    Result r;
+    const auto t0 = std::chrono::steady_clock::now();  // manual time: detect() alone
+    det->detect(f, r);
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    benchmark::DoNotOptimize(r.plane.distance);
+  }  // the detector's memory goes back: the next one starts cold
   setLabel(state, d);
 }
 
@@ -267,6 +297,8 @@ void sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_Detect)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_FirstFrame, Unprepared, false)->Apply(sizes)->UseManualTime();
+BENCHMARK_CAPTURE(BM_FirstFrame, Prepared, true)->Apply(sizes)->UseManualTime();
 BENCHMARK(BM_DetectImproved)->Apply(sizes);
 BENCHMARK(BM_Detect2)->Apply(sizes)->UseRealTime();
 BENCHMARK(BM_OpenCV_Pipeline)->Apply(sizes);
@@ -364,7 +396,17 @@ int main(int argc, char** argv) {
   cv::setNumThreads(1);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  for (int width : {640, 1280}) rgbd_lane_detector::bench::reportEquality(width);
+  using namespace rgbd_lane_detector;
+  for (int width : {640, 1280}) bench::reportEquality(width);
+  std::string names;
+  for (simd::Target t : simd::availableTargets()) {
+    const std::string name = simd::targetName(t);
+    names += (names.empty() ? "" : " ") + name;
+    benchmark::RegisterBenchmark(("BM_DetectOn_" + name).c_str(), bench::BM_DetectOn, t)
+        ->Apply(bench::sizes);
+  }
+  benchmark::AddCustomContext("simd targets", names);
+  benchmark::AddCustomContext("simd best target", simd::targetName(simd::currentTarget()));
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -18,6 +18,7 @@
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "road_frames.h"
+#include "simd.h"
 
 using namespace rgbd_lane_detector;
 
@@ -31,14 +32,25 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
-        "usage: %s detect|halfbinary|points|normals|normals_only|matching|response WIDTH N "
-        "[SIMD_LEVEL]\n",
+        "usage: %s detect|improved|halfbinary|points|normals|normals_only|matching|response|targets WIDTH N "
+        "[TARGET (AVX3, AVX2, SSE4, NEON, scalar)]\n",
         argv[0]);
     return 2;
   }
   const std::string stage = argv[1];
+  if (stage == "targets") {  // the SIMD targets of this machine, best first
+    for (simd::Target t : simd::availableTargets()) std::printf("%s\n", simd::targetName(t));
+    return 0;
+  }
   const int width = std::atoi(argv[2]), n = std::atoi(argv[3]);
-  if (argc > 4) setMaxSimdLevel(std::atoi(argv[4]));  // 0 baseline, 1 AVX2, 2 AVX-512
+  if (argc > 4) {  // a SIMD target of this machine (simd.h), else the best
+    const simd::Target t = simd::targetByName(argv[4]);
+    if (t < 0) {
+      std::fprintf(stderr, "target %s not available here\n", argv[4]);
+      return 2;
+    }
+    simd::forceTarget(t);
+  }
   cv::setNumThreads(1);
   std::vector<bench::RoadFrame> frames(4);
   for (int i = 0; i < 4; ++i) bench::renderRoadFrame(width, width * 380 / 640, i, frames[i]);
@@ -68,9 +80,21 @@ int main(int argc, char** argv) {
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
   };
   const double start = cpu_ms();
+  LaneDetector improved(Params::improved());
+  StageTimings sum;
+  if (stage == "improved")
+    for (auto& fr : frames) improved.detect(fr.frame(), r);  // steady state, as for detect
   measured(n, [&](int i) {
     if (stage == "detect") {
       det.detect(frames[i % 4].frame(), r);
+    } else if (stage == "improved") {  // the recommended mode, with its stage timings
+      improved.detect(frames[i % 4].frame(), r);
+      const StageTimings& t = r.timings;
+      for (auto m : {&StageTimings::preprocess, &StageTimings::points, &StageTimings::road,
+                     &StageTimings::normals, &StageTimings::matching, &StageTimings::response,
+                     &StageTimings::pca, &StageTimings::tracing, &StageTimings::classify,
+                     &StageTimings::plane, &StageTimings::model, &StageTimings::total})
+        sum.*m += t.*m;
     } else if (stage == "halfbinary") {
       halfBinary(f.colour, f.format, params.tau_c, rows, hb);
     } else if (stage == "points") {
@@ -96,8 +120,15 @@ int main(int argc, char** argv) {
   rusage usage;
   getrusage(RUSAGE_SELF, &usage);
   std::printf("peak RSS %ld kB\n", usage.ru_maxrss);
-  std::printf("%s %d x%d: %.3f ms CPU per call, slopes %d/%d %d/%d\n", stage.c_str(), width, n,
-              ms / n, det.leftTemplate().slope_p, det.leftTemplate().slope_q,
-              det.rightTemplate().slope_p, det.rightTemplate().slope_q);
+  if (stage == "improved")  // wall time inside detect(), ms per frame
+    std::printf(
+        "stages ms: preprocess %.3f points %.3f road %.3f normals %.3f matching %.3f response %.3f "
+        "pca %.3f tracing %.3f classify %.3f plane %.3f model %.3f total %.3f\n",
+        sum.preprocess / n, sum.points / n, sum.road / n, sum.normals / n, sum.matching / n,
+        sum.response / n, sum.pca / n, sum.tracing / n, sum.classify / n, sum.plane / n,
+        sum.model / n, sum.total / n);
+  std::printf("%s %d x%d on %s: %.3f ms CPU per call, slopes %d/%d %d/%d\n", stage.c_str(), width,
+              n, simd::targetName(simd::currentTarget()), ms / n, det.leftTemplate().slope_p,
+              det.leftTemplate().slope_q, det.rightTemplate().slope_p, det.rightTemplate().slope_q);
   return 0;
 }

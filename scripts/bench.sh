@@ -43,6 +43,17 @@ if [ -x "$PROFILE" ]; then
   RSS_KB=$("$PROFILE" detect 1280 50 | sed -n 's/^peak RSS \([0-9]*\) kB$/\1/p')
 fi
 
+# Each stage on each SIMD target (profile_core: CPU time of a fixed number of calls, 640x380).
+STAGES_BY_TARGET=$OUT/stages_by_target.txt
+: > "$STAGES_BY_TARGET"
+if [ -x "$PROFILE" ]; then
+  for target in $("$PROFILE" targets 640 1); do
+    for stage in halfbinary points normals matching response detect; do
+      "$PROFILE" "$stage" 640 200 "$target" | tail -n 1 >> "$STAGES_BY_TARGET"
+    done
+  done
+fi
+
 # What the nodelet adds over detect(), and its peak RSS (bench/measure_nodelet.sh).
 NODELET=()
 if [ "${BENCH_NODELET:-1}" != 0 ] && command -v roscore > /dev/null; then
@@ -54,6 +65,6 @@ if [ "${BENCH_NODELET:-1}" != 0 ] && command -v roscore > /dev/null; then
 fi
 
 /usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" "${NODELET[@]}" \
-  --rss-kb "${RSS_KB:-0}" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
+  --rss-kb "${RSS_KB:-0}" --stages-by-target "$STAGES_BY_TARGET" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
   --out "$ROOT/docs/PERFORMANCE.md" --plot "$ROOT/docs/performance.png"
 echo "bench: wrote docs/PERFORMANCE.md and docs/performance.png"

@@ -13,19 +13,22 @@ PACKAGES=(
   libdiagnostic-updater-dev libcamera-calibration-parsers-dev libyaml-cpp-dev libvisualization-msgs-dev libnav-msgs-dev python3-nav-msgs
   libstereo-msgs-dev ros-stereo-image-proc libstereo-image-proc-dev ros-image-proc libimage-proc-dev
   librosbag-dev python3-rosbag librostest-dev python3-rostest rosbash python3-sensor-msgs
-  libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev
+  libopencv-dev libopencv-contrib-dev libeigen3-dev libgtest-dev libbenchmark-dev libhwy-dev
   python3-opencv python3-numpy python3-matplotlib
   rviz xvfb xauth x11-utils libx11-dev libgl1-mesa-dri python3-roslaunch python3-rosgraph python3-rosparam
 )
-# Optional groups, installed only when named: `install_deps.sh fuzz` (make fuzz) and
-# `install_deps.sh load` (make test-load) add these.
+# Optional groups, installed only when named: `install_deps.sh fuzz` (make fuzz),
+# `install_deps.sh load` (make test-load) and `install_deps.sh arm64` (make test-arm64: the cross
+# compiler and qemu; the arm64 libraries go into a sysroot under build/, see arm64_sysroot.sh).
 FUZZ_PACKAGES=(clang-14 libclang-rt-14-dev)
 LOAD_PACKAGES=(stress-ng)
+ARM64_PACKAGES=(g++-aarch64-linux-gnu qemu-user cmake file)
 for group in "$@"; do
   case "$group" in
     fuzz) PACKAGES=("${FUZZ_PACKAGES[@]}") ;;
     load) PACKAGES=("${LOAD_PACKAGES[@]}") ;;
-    *) echo "install_deps: unknown package group '$group' (known: fuzz, load)" >&2; exit 1 ;;
+    arm64) PACKAGES=("${ARM64_PACKAGES[@]}") ;;
+    *) echo "install_deps: unknown package group '$group' (known: fuzz, load, arm64)" >&2; exit 1 ;;
   esac
 done
 

@@ -48,6 +48,19 @@ class LaneDetector {
   void reset();
 
   /**
+   * @brief Allocate and plan everything for frames of one size and camera, so that the first
+   * detect() on such frames costs about a steady-state frame: call it when the camera_info (or
+   * the first frame's size) arrives. Runs detect() on a generated frame (grey road plane in front
+   * of the camera), then reset(): carried state is forgotten. Allocates.
+   * @param[in] size colour (and depth) image size.
+   * @param[in] intrinsics the colour camera's.
+   * @param[in] format colour layout of the coming frames.
+   * @return what detect() returns for such frames (kOk, or why they would be refused).
+   */
+  Status prepare(const cv::Size& size, const Intrinsics& intrinsics,
+                 PixelFormat format = PixelFormat::kBgr8);
+
+  /**
    * @brief The vehicle moved since the last frame (odometry): the lane model is moved with it
    * before the next detect() (lane_model option; no effect otherwise).
    * @param[in] motion pose of the vehicle frame now in the vehicle frame at the last frame.

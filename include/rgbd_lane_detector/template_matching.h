@@ -77,24 +77,6 @@ class NccMatcher {
 };
 
 /**
- * @brief Test and benchmark hook: while enabled, NccMatcher::match() computes with
- * cv::matchTemplate and FalsNormals solves every window directly in double (the method as
- * written), so detect() can be run on both implementations and compared. Process-wide, slow,
- * allocates; never enabled by the package itself.
- */
-void setReferenceStages(bool enabled);
-/// Whether setReferenceStages(true) is in effect.
-bool referenceStages();
-
-/**
- * @brief Instruction sets of the fast paths: 0 the x86-64 baseline (SSE2) or plain C++, 1 AVX2,
- * 2 AVX-512. simdLevel() is what the CPU has, capped by setMaxSimdLevel() (a test hook: every
- * level must give the same bits). Process-wide.
- */
-void setMaxSimdLevel(int level);
-int simdLevel();
-
-/**
  * @brief Reference path: cv::matchTemplate(TM_CCOEFF_NORMED) in the same output layout.
  * Allocates; for tests and benchmarks.
  */

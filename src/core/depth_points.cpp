@@ -1,109 +1,99 @@
+// Stage 2: depth to organised points. The per-row kernels are compiled for every SIMD target
+// (simd.h); this file is included once per target by Highway's foreach_target.h.
+#ifndef RLD_DEPTH_POINTS_ONCE
+#define RLD_DEPTH_POINTS_ONCE
 #include "rgbd_lane_detector/depth_points.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 #include <vector>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define RLD_POINTS_AVX2 1
-#define RLD_AVX2 __attribute__((target("avx2")))
+#include "simd.h"
 #endif
 
-#include "rgbd_lane_detector/template_matching.h"  // simdLevel()
+#ifdef RLD_HAVE_HWY
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "depth_points.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
 
+RLD_KERNELS_BEGIN
+
+// x = ax d, y = ry d, z = d where keep, NaN elsewhere, stored as interleaved points.
+template <class DF>
+void storePoints(DF df, hn::Mask<DF> keep, hn::Vec<DF> d, const float* ax, float ry, float* dst) {
+  const auto nan = hn::Set(df, std::numeric_limits<float>::quiet_NaN());
+  hn::StoreInterleaved3(hn::IfThenElse(keep, hn::Mul(hn::LoadU(df, ax), d), nan),
+                        hn::IfThenElse(keep, hn::Mul(hn::Set(df, ry), d), nan),
+                        hn::IfThenElse(keep, d, nan), df, dst);
+}
+
+// 16-bit depth of one row (no column map): the decoder's range test as the interval [lo, hi] of
+// raw values, the decode in double rounded once, x from the table ax of float((u - cx) / fx).
+// Returns the columns done.
+int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float* ax, float ry,
+           float* dst) {
+  const hn::ScalableTag<int32_t> d32;
+  const hn::Rebind<uint16_t, decltype(d32)> d16;
+  const hn::Rebind<float, decltype(d32)> df;
+  const hn::Half<decltype(df)> dfh;
+  const hn::Half<decltype(d32)> d32h;
+  const hn::Rebind<double, decltype(d32h)> dd;
+  const int N = static_cast<int>(hn::Lanes(d32));
+  const auto vscale = hn::Set(dd, scale);
+  int x = 0;
+  for (; x + N <= w; x += N) {
+    const auto raw = hn::PromoteTo(d32, hn::LoadU(d16, src + x));
+    const auto in = hn::And(hn::Gt(raw, hn::Set(d32, lo - 1)), hn::Lt(raw, hn::Set(d32, hi + 1)));
+    const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
+    const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
+    storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
+  }
+  return x;
+}
+
+// Float depth of one row (no column map): valid when in (0, inf) and in [lo, hi], the float
+// bounds that compare as the decoder's double ones. Returns the columns done.
+int rowF32(const float* src, int w, float lo, float hi, const float* ax, float ry, float* dst) {
+  const hn::ScalableTag<float> df;
+  const int N = static_cast<int>(hn::Lanes(df));
+  const auto zero = hn::Zero(df), inf = hn::Set(df, std::numeric_limits<float>::infinity());
+  const auto vlo = hn::Set(df, lo), vhi = hn::Set(df, hi);
+  int x = 0;
+  for (; x + N <= w; x += N) {
+    const auto d = hn::LoadU(df, src + x);
+    const auto ok =
+        hn::And(hn::And(hn::Gt(d, zero), hn::Lt(d, inf)), hn::And(hn::Ge(d, vlo), hn::Le(d, vhi)));
+    storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
+  }
+  return x;
+}
+
+RLD_KERNELS_END
+#endif  // RLD_HAVE_HWY
+
+#if HWY_ONCE
 namespace rgbd_lane_detector {
 namespace {
 
-#ifdef RLD_POINTS_AVX2
-// Four points from x, y, z lanes to interleaved x y z x y z ... (12 floats at dst).
-RLD_AVX2 inline void store4(float* dst, __m128 x, __m128 y, __m128 z) {
-  const __m128 a = _mm_unpacklo_ps(x, y);                                 // x0 y0 x1 y1
-  const __m128 b = _mm_unpackhi_ps(x, y);                                 // x2 y2 x3 y3
-  const __m128 t = _mm_unpacklo_ps(z, x);                                 // z0 x0 z1 x1
-  const __m128 u = _mm_shuffle_ps(a, t, _MM_SHUFFLE(2, 2, 3, 3));         // y1 y1 z1 z1
-  const __m128 w = _mm_shuffle_ps(z, b, _MM_SHUFFLE(3, 2, 3, 2));         // z2 z3 x3 y3
-  _mm_storeu_ps(dst, _mm_shuffle_ps(a, t, _MM_SHUFFLE(3, 0, 1, 0)));      // x0 y0 z0 x1
-  _mm_storeu_ps(dst + 4, _mm_shuffle_ps(u, b, _MM_SHUFFLE(1, 0, 2, 0)));  // y1 z1 x2 y2
-  _mm_storeu_ps(dst + 8, _mm_shuffle_ps(w, w, _MM_SHUFFLE(1, 3, 2, 0)));  // z2 x3 y3 z3
+// The scalar target: no column done by a vector (convertRows() does them all).
+int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, float*) {
+  return 0;
 }
-
-// Eight pixels of one row (no column map), the scalar code's values lane for lane: the depth is
-// decoded in double and rounded once, x = float((u - cx) / fx) d, y = float((v - cy) / fy) d.
-template <typename T>
-RLD_AVX2 void rowAvx2(const T* src, int w, const DepthDecoder& dec, double cx, double inv_fx,
-                      float ry, float* dst, int& done) {
-  const __m256d scale = _mm256_set1_pd(dec.scale), lo = _mm256_set1_pd(dec.min_depth),
-                hi = _mm256_set1_pd(dec.max_depth), zero = _mm256_setzero_pd(),
-                inf = _mm256_set1_pd(std::numeric_limits<double>::infinity()),
-                vcx = _mm256_set1_pd(cx), vfx = _mm256_set1_pd(inv_fx);
-  const __m128 vry = _mm_set1_ps(ry), nan = _mm_set1_ps(std::numeric_limits<float>::quiet_NaN());
-  int x = 0;
-  for (; x + 8 <= w; x += 8) {
-    for (int half = 0; half < 2; ++half) {
-      const int u = x + 4 * half;
-      __m256d d, ok;
-      if (std::is_same<T, uint16_t>::value) {
-        uint64_t raw4;
-        std::memcpy(&raw4, src + u, 8);
-        const __m128i r = _mm_cvtepu16_epi32(_mm_cvtsi64_si128(static_cast<int64_t>(raw4)));
-        const __m256d rd = _mm256_cvtepi32_pd(r);
-        d = _mm256_mul_pd(rd, scale);
-        ok = _mm256_cmp_pd(rd, zero, _CMP_NEQ_OQ);
-      } else {
-        d = _mm256_cvtps_pd(_mm_loadu_ps(reinterpret_cast<const float*>(src) + u));
-        ok = _mm256_and_pd(_mm256_cmp_pd(d, zero, _CMP_GT_OQ), _mm256_cmp_pd(d, inf, _CMP_LT_OQ));
-      }
-      ok = _mm256_and_pd(
-          ok, _mm256_and_pd(_mm256_cmp_pd(d, lo, _CMP_GE_OQ), _mm256_cmp_pd(d, hi, _CMP_LE_OQ)));
-      const __m128 okf = _mm256_cvtpd_ps(_mm256_and_pd(ok, _mm256_set1_pd(1.0)));
-      const __m128 keep = _mm_cmpeq_ps(okf, _mm_set1_ps(1.f));
-      const __m128 df = _mm256_cvtpd_ps(d);
-      const __m256d us = _mm256_add_pd(_mm256_set1_pd(u), _mm256_setr_pd(0, 1, 2, 3));
-      const __m128 ax = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_sub_pd(us, vcx), vfx));
-      auto sel = [&](__m128 v) RLD_AVX2 { return _mm_blendv_ps(nan, v, keep); };
-      store4(dst + 3 * u, sel(_mm_mul_ps(ax, df)), sel(_mm_mul_ps(vry, df)), sel(df));
-    }
-  }
-  done = x;
+int rowF32Scalar(const float*, int, float, float, const float*, float, float*) {
+  return 0;
 }
-
-// 16-bit depth, eight pixels per step: the decoder's range test as an integer interval of raw
-// values [lo, hi] (found with its own double expression), the decode in double rounded once, and
-// x from a table of float((u - cx) / fx).
-RLD_AVX2 void rowAvx2U16(const uint16_t* src, int w, double scale, uint16_t lo, uint16_t hi,
-                         const float* ax, float ry, float* dst, int& done) {
-  const __m128i vlo = _mm_set1_epi16(static_cast<short>(lo)),
-                vhi = _mm_set1_epi16(static_cast<short>(hi));
-  const __m256d vscale = _mm256_set1_pd(scale);
-  const __m256 vry = _mm256_set1_ps(ry),
-               nan = _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN());
-  int x = 0;
-  for (; x + 8 <= w; x += 8) {
-    const __m128i raw = _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + x));
-    const __m128i in = _mm_cmpeq_epi16(raw, _mm_min_epu16(_mm_max_epu16(raw, vlo), vhi));
-    const __m256 keep = _mm256_castsi256_ps(_mm256_cvtepi16_epi32(in));
-    const __m256i r32 = _mm256_cvtepu16_epi32(raw);
-    const __m128 d0 =
-        _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_castsi256_si128(r32)), vscale));
-    const __m128 d1 = _mm256_cvtpd_ps(
-        _mm256_mul_pd(_mm256_cvtepi32_pd(_mm256_extracti128_si256(r32, 1)), vscale));
-    const __m256 d = _mm256_set_m128(d1, d0);
-    const __m256 X = _mm256_blendv_ps(nan, _mm256_mul_ps(_mm256_loadu_ps(ax + x), d), keep);
-    const __m256 Y = _mm256_blendv_ps(nan, _mm256_mul_ps(vry, d), keep);
-    const __m256 Z = _mm256_blendv_ps(nan, d, keep);
-    store4(dst + 3 * x, _mm256_castps256_ps128(X), _mm256_castps256_ps128(Y),
-           _mm256_castps256_ps128(Z));
-    store4(dst + 3 * x + 12, _mm256_extractf128_ps(X, 1), _mm256_extractf128_ps(Y, 1),
-           _mm256_extractf128_ps(Z, 1));
-  }
-  done = x;
-}
+#ifdef RLD_HAVE_HWY
+HWY_EXPORT(rowU16);
+HWY_EXPORT(rowF32);
+#endif
 
 // Raw values r with d = r * scale inside [min_depth, max_depth] and r != 0: an interval, since
 // d grows with r. Found with the decoder's own expression; empty when lo > hi.
-void validRaw(const DepthDecoder& dec, uint16_t& lo, uint16_t& hi) {
+void validRaw(const DepthDecoder& dec, int& lo, int& hi) {
   auto ok_lo = [&](int r) { return r * dec.scale >= dec.min_depth; };
   auto ok_hi = [&](int r) { return r * dec.scale <= dec.max_depth; };
   int a = 1, b = 65536;  // first r >= 1 with ok_lo (65536: none)
@@ -127,10 +117,23 @@ void validRaw(const DepthDecoder& dec, uint16_t& lo, uint16_t& hi) {
     hi = 0;
     return;
   }
-  lo = static_cast<uint16_t>(a);
-  hi = static_cast<uint16_t>(c);
+  lo = a;
+  hi = c;
 }
-#endif
+
+// The float bounds [lo, hi] with raw >= lo <=> raw >= min_depth and raw <= hi <=> raw <= max_depth
+// for every float raw (the decoder compares in double).
+void floatBounds(const DepthDecoder& dec, float& lo, float& hi) {
+  const float inf = std::numeric_limits<float>::infinity();
+  lo = static_cast<float>(dec.min_depth);
+  if (static_cast<double>(lo) < dec.min_depth) lo = std::nextafter(lo, inf);
+  hi = static_cast<float>(dec.max_depth);
+  if (static_cast<double>(hi) > dec.max_depth) hi = std::nextafter(hi, -inf);
+  if (std::isnan(dec.min_depth) || std::isnan(dec.max_depth)) {  // nothing passes
+    lo = inf;
+    hi = -inf;
+  }
+}
 
 template <typename T>
 void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrinsics& K, int r0,
@@ -139,32 +142,33 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
   const double inv_fx = 1.0 / K.fx;
   const double inv_fy = 1.0 / K.fy;
   const int w = points.cols;
-#ifdef RLD_POINTS_AVX2
-  const bool avx2 = simdLevel() >= 1;
-  // 16-bit rows: the valid raw interval and the x factors of the columns, once per call
-  // (the table is per thread and only grows)
-  uint16_t raw_lo = 1, raw_hi = 0;
+  // the vector rows: the x factors of the columns and the valid raw range, once per call (the
+  // table is per thread and only grows)
   thread_local std::vector<float> ax;
-  const bool u16 = std::is_same<T, uint16_t>::value && avx2 && !col_map && decode.scale > 0.0;
-  if (u16) {
-    validRaw(decode, raw_lo, raw_hi);
+  const bool u16 = std::is_same<T, uint16_t>::value;
+  int raw_lo = 1, raw_hi = 0;
+  float f_lo = 0.f, f_hi = 0.f;
+  const bool vec = !col_map && (!u16 || decode.scale > 0.0);
+  if (vec) {
+    if (u16)
+      validRaw(decode, raw_lo, raw_hi);
+    else
+      floatBounds(decode, f_lo, f_hi);
     if (static_cast<int>(ax.size()) < w) ax.resize(w);
     for (int x = 0; x < w; ++x) ax[x] = static_cast<float>((x - K.cx) * inv_fx);
   }
-#endif
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;
     const T* src = depth.ptr<T>(sy);
     float* dst = points.ptr<float>(y);
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
     int x = 0;
-#ifdef RLD_POINTS_AVX2
-    if (u16 && raw_lo <= raw_hi)
-      rowAvx2U16(reinterpret_cast<const uint16_t*>(src), w, decode.scale, raw_lo, raw_hi, ax.data(),
-                 ry, dst, x);
-    else if (avx2 && !col_map)
-      rowAvx2<T>(src, w, decode, K.cx, inv_fx, ry, dst, x);
-#endif
+    if (vec && u16)
+      x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(src), w, decode.scale, raw_lo,
+                               raw_hi, ax.data(), ry, dst);
+    else if (vec)
+      x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(src), w, f_lo, f_hi, ax.data(), ry,
+                               dst);
     for (; x < w; ++x) {
       const int sx = col_map ? col_map[x] : x;
       const float d = decode(src[sx]);
@@ -229,3 +233,4 @@ void fillDepthHoles(cv::Mat& points, const cv::Range& rows, int max_gap) {
 }
 
 }  // namespace rgbd_lane_detector
+#endif  // HWY_ONCE

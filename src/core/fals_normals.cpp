@@ -1,16 +1,15 @@
+// Stage 3: FALS normals and G. The row kernels (fals_kernels-inl.h) are compiled for every SIMD
+// target (simd.h); this file is included once per target by Highway's foreach_target.h.
+#ifndef RLD_FALS_NORMALS_ONCE
+#define RLD_FALS_NORMALS_ONCE
 #include "rgbd_lane_detector/fals_normals.h"
-
-#include "rgbd_lane_detector/template_matching.h"  // referenceStages()
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#include <immintrin.h>
-#define RLD_FALS_SIMD 1
-#endif
+#include "simd.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -149,99 +148,42 @@ inline void finish(const float n[3], bool ok, const float* p, float ax, const Ro
   }
 }
 
-#ifdef RLD_FALS_SIMD
-// The kernels of fals_kernels.inc, compiled for AVX2 and for AVX-512 (chosen at run time), with
-// FMA contraction off so that every instruction set computes the scalar code's values.
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#pragma GCC optimize("fp-contract=off")
-namespace avx2 {
-struct V {
-  static constexpr int N = 8;
-  using T = __m256;
-  using M = __m256;
-  static T load(const float* p) { return _mm256_loadu_ps(p); }
-  static void store(float* p, T v) { _mm256_storeu_ps(p, v); }
-  static T set1(float f) { return _mm256_set1_ps(f); }
-  static T zero() { return _mm256_setzero_ps(); }
-  static T add(T a, T b) { return _mm256_add_ps(a, b); }
-  static T sub(T a, T b) { return _mm256_sub_ps(a, b); }
-  static T mul(T a, T b) { return _mm256_mul_ps(a, b); }
-  static T div(T a, T b) { return _mm256_div_ps(a, b); }
-  static T sqrt(T a) { return _mm256_sqrt_ps(a); }
-  static T abs(T a) { return _mm256_and_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF))); }
-  static M gt(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-  static M ge(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
-  static M lt(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
-  static M le(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
-  static M eq(T a, T b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
-  static M mand(M a, M b) { return _mm256_and_ps(a, b); }
-  static M mor(M a, M b) { return _mm256_or_ps(a, b); }
-  static M mandnot(M a, M b) { return _mm256_andnot_ps(a, b); }  // b and not a
-  static M ones() { return _mm256_castsi256_ps(_mm256_set1_epi32(-1)); }
-  static T select(M m, T a, T b) { return _mm256_blendv_ps(b, a, m); }  // m ? a : b
-  static T keep(M m, T a) { return _mm256_and_ps(m, a); }
-  static unsigned bits(M m) { return static_cast<unsigned>(_mm256_movemask_ps(m)); }
-  // z of eight interleaved points (x, y, z) starting at p
-  static T loadZ(const float* p) {
-    const T a = load(p), b = load(p + 8), c = load(p + 16);
-    // lanes 0,3,6 from b, 1,4,7 from c, 2,5 from a: [b0 c1 a2 b3 c4 a5 b6 c7]
-    const T m = _mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92);
-    return _mm256_permutevar8x32_ps(m, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
-  }
-};
-#include "fals_kernels.inc"
-}  // namespace avx2
-#pragma GCC pop_options
+}  // namespace
+}  // namespace rgbd_lane_detector
+#endif  // RLD_FALS_NORMALS_ONCE
 
-// GCC 12 warns about its own _mm512_undefined_*() inside avx512fintrin.h (PR105593).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#pragma GCC push_options
-#pragma GCC target("avx512f")
-#pragma GCC optimize("fp-contract=off")
-namespace avx512 {
-struct V {
-  static constexpr int N = 16;
-  using T = __m512;
-  using M = __mmask16;
-  static T load(const float* p) { return _mm512_loadu_ps(p); }
-  static void store(float* p, T v) { _mm512_storeu_ps(p, v); }
-  static T set1(float f) { return _mm512_set1_ps(f); }
-  static T zero() { return _mm512_setzero_ps(); }
-  static T add(T a, T b) { return _mm512_add_ps(a, b); }
-  static T sub(T a, T b) { return _mm512_sub_ps(a, b); }
-  static T mul(T a, T b) { return _mm512_mul_ps(a, b); }
-  static T div(T a, T b) { return _mm512_div_ps(a, b); }
-  static T sqrt(T a) { return _mm512_sqrt_ps(a); }
-  static T abs(T a) { return _mm512_abs_ps(a); }
-  static M gt(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
-  static M ge(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
-  static M lt(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
-  static M le(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
-  static M eq(T a, T b) { return _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ); }
-  static M mand(M a, M b) { return static_cast<M>(a & b); }
-  static M mor(M a, M b) { return static_cast<M>(a | b); }
-  static M mandnot(M a, M b) { return static_cast<M>(~a & b); }  // b and not a
-  static M ones() { return static_cast<M>(0xFFFF); }
-  static T select(M m, T a, T b) { return _mm512_mask_blend_ps(m, b, a); }  // m ? a : b
-  static T keep(M m, T a) { return _mm512_maskz_mov_ps(m, a); }
-  static unsigned bits(M m) { return m; }
-  // z of sixteen interleaved points (x, y, z) starting at p: elements 2, 5, ..., 47
-  static T loadZ(const float* p) {
-    const T a = load(p), b = load(p + 16), c = load(p + 32);
-    const __m512i ab = _mm512_setr_epi32(2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0);
-    const __m512i tc = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31);
-    return _mm512_permutex2var_ps(_mm512_permutex2var_ps(a, ab, b), tc, c);
-  }
-};
-#include "fals_kernels.inc"
-}  // namespace avx512
-#pragma GCC pop_options
-#pragma GCC diagnostic pop
+#ifdef RLD_HAVE_HWY
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "fals_normals.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
 
+RLD_KERNELS_BEGIN
+#include "fals_kernels-inl.h"
+RLD_KERNELS_END
+#endif  // RLD_HAVE_HWY
+
+#if HWY_ONCE
+namespace rgbd_lane_detector {
+namespace {
+// The scalar target: no column done by a vector (the loops of FalsNormals do them all).
+void falsPrepareScalar(const float*, const float*, int, float*, float*, float*, float*, uint64_t*,
+                       int& done) {
+  done = 0;
+}
+void falsVerticalScalar(int, const float* const*, int, const uint64_t*, float* const*, int& done) {
+  done = 0;
+}
+void falsHorizontalScalar(int, const float* const*, const float* const*, int, const float*,
+                          const float*, const RowConst&, const float*, const float*, float*, float*,
+                          const uint64_t*, int*, int&, int& done) {
+  done = 0;
+}
+#ifdef RLD_HAVE_HWY
+HWY_EXPORT(falsPrepare);
+HWY_EXPORT(falsVertical);
+HWY_EXPORT(falsHorizontal);
 #endif
-
 }  // namespace
 
 struct FalsNormals::Output {
@@ -364,10 +306,7 @@ void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, 
   const float* p = points.ptr<float>(y);
   const float* k = k_.ptr<float>(y);
   int x = 0;
-#ifdef RLD_FALS_SIMD
-  if (simdLevel() == 2) avx512::prepare(p, k, W, kv, t, c, z, bad, x);
-  if (simdLevel() == 1) avx2::prepare(p, k, W, kv, t, c, z, bad, x);
-#endif
+  RLD_DISPATCH(falsPrepare)(p, k, W, kv, t, c, z, bad, x);
   for (; x < W; ++x) {
     const float d = z[x] = p[3 * x + 2];
     const bool valid = d > 0.f && d < kInf;
@@ -547,30 +486,7 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       near_v[j] = near_h[j] | shifted(j, 2) | shifted(j, -2);
     }
     int x = 0;
-#ifdef RLD_FALS_SIMD
-    switch (simdLevel() * 10 + h) {
-      case 21:
-        avx512::vertical<1>(kv_rows, W, near_v, vert, x);
-        break;
-      case 22:
-        avx512::vertical<2>(kv_rows, W, near_v, vert, x);
-        break;
-      case 23:
-        avx512::vertical<3>(kv_rows, W, near_v, vert, x);
-        break;
-      case 11:
-        avx2::vertical<1>(kv_rows, W, near_v, vert, x);
-        break;
-      case 12:
-        avx2::vertical<2>(kv_rows, W, near_v, vert, x);
-        break;
-      case 13:
-        avx2::vertical<3>(kv_rows, W, near_v, vert, x);
-        break;
-      default:
-        break;
-    }
-#endif
+    RLD_DISPATCH(falsVertical)(h, kv_rows, W, near_v, vert, x);
     for (; x < W; ++x) {
       float unused;
       momentsRows(t_rows, x, h, vert[kW0][x], vert[kW1][x], unused);
@@ -583,40 +499,9 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
     for (int j = 0; j < 6; ++j)
       table[j] = table_.ptr<float>(j * table_rows_.size() + y - table_rows_.start);
     int n_slow = 0;
-    x = 0;
-#ifdef RLD_FALS_SIMD
-    {
-      const float* const* v = vert;
-      const float *nc = ncols_.data(), *ax = ax_.data(), *z = kv_rows[h] + 3 * W;
-      int* sl = slow_.data();
-      float* g = grow;
-      const uint64_t* nh = near_h;
-#define RLD_H(ns, H) ns::horizontal<H>(v, table, W, nc, ax, rc, prow, z, nrow, g, nh, sl, n_slow, x)
-      switch (simdLevel() * 10 + h) {
-        case 21:
-          RLD_H(avx512, 1);
-          break;
-        case 22:
-          RLD_H(avx512, 2);
-          break;
-        case 23:
-          RLD_H(avx512, 3);
-          break;
-        case 11:
-          RLD_H(avx2, 1);
-          break;
-        case 12:
-          RLD_H(avx2, 2);
-          break;
-        case 13:
-          RLD_H(avx2, 3);
-          break;
-        default:
-          break;
-      }
-#undef RLD_H
-    }
-#endif
+    RLD_DISPATCH(falsHorizontal)
+    (h, vert, table, W, ncols_.data(), ax_.data(), rc, prow, kv_rows[h] + 3 * W, nrow, grow, near_h,
+     slow_.data(), n_slow, x);
     for (; x < W; ++x) {
       float T0, Tu, Tv, N, unused;
       moments(vert[kW0] + x, 1, h, T0, Tu, unused);
@@ -710,3 +595,4 @@ bool falsNormalAt(const cv::Mat& points, int x, int y, int window, const Intrins
 }
 
 }  // namespace rgbd_lane_detector
+#endif  // HWY_ONCE

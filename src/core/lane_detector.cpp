@@ -89,6 +89,27 @@ void LaneDetector::reset() {
   templates_dirty_ = true;
 }
 
+Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,
+                             PixelFormat format) {
+  // A frame as a camera 1.5 m above a flat grey road sees it (no markers): every buffer, table
+  // and plan of detect() is made for this size, the memory touched once.
+  static const int kTypes[] = {CV_8UC3, CV_8UC3, CV_8UC4, CV_8UC4, CV_8UC1};
+  Frame f;
+  f.format = format;
+  f.intrinsics = intrinsics;
+  f.colour.create(size, kTypes[static_cast<int>(format)]);
+  f.colour.setTo(cv::Scalar::all(90));
+  f.depth.create(size, CV_32FC1);
+  for (int v = 0; v < size.height; ++v) {
+    const double below = intrinsics.fy > 0.0 ? (v - intrinsics.cy) / intrinsics.fy : 0.0;
+    f.depth.row(v).setTo(below > 0.02 ? 1.5 / below : std::numeric_limits<double>::quiet_NaN());
+  }
+  Result r;
+  const Status status = detect(f, r);
+  reset();
+  return status;
+}
+
 Status LaneDetector::validate(const Frame& frame) const {
   if (frame.colour.empty() || frame.depth.empty()) return Status::kEmptyImage;
   if (frame.colour.size() != frame.depth.size()) return Status::kSizeMismatch;

@@ -1,15 +1,80 @@
+// Stage 5: G (Eq. 2), R (Eq. 3) and the maximum of R. The per-row kernels are compiled for every
+// SIMD target (simd.h); this file is included once per target by Highway's foreach_target.h.
+#ifndef RLD_RESPONSE_MAP_ONCE
+#define RLD_RESPONSE_MAP_ONCE
 #include "rgbd_lane_detector/response_map.h"
 
 #include <algorithm>
+#include <limits>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define RLD_RM_AVX2 1
+#include "simd.h"
 #endif
 
-#include "rgbd_lane_detector/template_matching.h"  // simdLevel()
+#ifdef RLD_HAVE_HWY
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "response_map.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
 
+RLD_KERNELS_BEGIN
+
+// R = M below tau, M + G otherwise, over one row; returns the columns done.
+int fuseRow(const float* m, const float* g, float tau, int n, float* r) {
+  const hn::ScalableTag<float> d;
+  const int N = static_cast<int>(hn::Lanes(d));
+  const auto t = hn::Set(d, tau);
+  int x = 0;
+  for (; x + N <= n; x += N) {
+    const auto mv = hn::LoadU(d, m + x);
+    hn::StoreU(hn::IfThenElse(hn::Lt(mv, t), mv, hn::Add(mv, hn::LoadU(d, g + x))), d, r + x);
+  }
+  return x;
+}
+
+// The maximum of a row's whole vectors and its first column, in one pass (each lane keeps the
+// first column of its own maximum); returns the columns read (0: none, value and column unset).
+int rowArgMax(const float* r, int n, float& value, int& column) {
+  const hn::ScalableTag<float> df;
+  const hn::RebindToSigned<decltype(df)> di;
+  const int N = static_cast<int>(hn::Lanes(df));
+  if (n < N) return 0;
+  auto best = hn::LoadU(df, r);
+  auto cols = hn::Iota(di, 0), best_cols = cols;
+  int x = N;
+  for (; x + N <= n; x += N) {
+    cols = hn::Add(cols, hn::Set(di, N));
+    const auto v = hn::LoadU(df, r + x);
+    const auto above = hn::Gt(v, best);
+    best = hn::IfThenElse(above, v, best);
+    best_cols = hn::IfThenElse(hn::RebindMask(di, above), cols, best_cols);
+  }
+  value = hn::GetLane(hn::MaxOfLanes(df, best));
+  const auto at = hn::RebindMask(di, hn::Eq(best, hn::Set(df, value)));
+  column = hn::GetLane(hn::MinOfLanes(
+      di, hn::IfThenElse(at, best_cols, hn::Set(di, std::numeric_limits<int>::max()))));
+  return x;
+}
+
+RLD_KERNELS_END
+#endif  // RLD_HAVE_HWY
+
+#if HWY_ONCE
 namespace rgbd_lane_detector {
+
+namespace {
+// The scalar target: no column done by a vector (the loops below do them all).
+int fuseRowScalar(const float*, const float*, float, int, float*) {
+  return 0;
+}
+int rowArgMaxScalar(const float*, int, float&, int&) {
+  return 0;
+}
+}  // namespace
+
+#ifdef RLD_HAVE_HWY
+HWY_EXPORT(fuseRow);
+HWY_EXPORT(rowArgMax);
+#endif
 
 void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p,
                   const cv::Range& rows, cv::Mat& G) {
@@ -31,83 +96,32 @@ void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p
   }
 }
 
-namespace {
-
-#ifdef RLD_RM_AVX2
-__attribute__((target("avx2"))) int fuseAvx2(const float* m, const float* g, float tau, int n,
-                                             float* r) {
-  const __m256 t = _mm256_set1_ps(tau);
-  int x = 0;
-  for (; x + 8 <= n; x += 8) {
-    const __m256 mv = _mm256_loadu_ps(m + x);
-    const __m256 below = _mm256_cmp_ps(mv, t, _CMP_LT_OQ);
-    _mm256_storeu_ps(r + x, _mm256_blendv_ps(_mm256_add_ps(mv, _mm256_loadu_ps(g + x)), mv, below));
-  }
-  return x;
-}
-
-__attribute__((target("avx2"))) float rowMaxAvx2(const float* r, int n, float m, int& done) {
-  __m256 v = _mm256_set1_ps(m);
-  int x = 0;
-  for (; x + 8 <= n; x += 8) v = _mm256_max_ps(v, _mm256_loadu_ps(r + x));
-  const __m128 h = _mm_max_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
-  const __m128 q = _mm_max_ps(h, _mm_movehl_ps(h, h));
-  done = x;
-  return _mm_cvtss_f32(_mm_max_ss(q, _mm_shuffle_ps(q, q, 1)));
-}
-
-__attribute__((target("avx2"))) int rowFindAvx2(const float* r, int n, float m, int& done) {
-  const __m256 v = _mm256_set1_ps(m);
-  int x = 0;
-  for (; x + 8 <= n; x += 8) {
-    const int hit = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(r + x), v, _CMP_EQ_OQ));
-    if (hit) return x + __builtin_ctz(static_cast<unsigned>(hit));
-  }
-  done = x;
-  return -1;
-}
-#endif
-
-}  // namespace
-
 void maxLocation(const cv::Mat& R, double& max_value, cv::Point& max_location) {
   CV_Assert(R.type() == CV_32FC1);
   max_location = cv::Point(-1, -1);
   max_value = 0.0;
   if (R.empty()) return;
-#ifdef RLD_RM_AVX2
-  const bool avx2 = simdLevel() >= 1;
-#endif
-  // the maximum, then its first occurrence (cv::minMaxLoc keeps the first on ties)
+  // the maximum and its first occurrence in row-major order (cv::minMaxLoc keeps the first on
+  // ties): only a strictly greater value moves it
   float m = R.at<float>(0, 0);
+  max_location = cv::Point(0, 0);
   for (int y = 0; y < R.rows; ++y) {
     const float* r = R.ptr<float>(y);
-    int x = 0;
-#ifdef RLD_RM_AVX2
-    if (avx2) m = rowMaxAvx2(r, R.cols, m, x);
-#endif
-    for (; x < R.cols; ++x) m = std::max(m, r[x]);
+    float v = 0.f;
+    int c = 0;
+    int x = RLD_DISPATCH(rowArgMax)(r, R.cols, v, c);
+    if (x > 0 && v > m) {
+      m = v;
+      max_location = cv::Point(c, y);
+    }
+    for (; x < R.cols; ++x) {
+      if (r[x] > m) {
+        m = r[x];
+        max_location = cv::Point(x, y);
+      }
+    }
   }
   max_value = m;
-  for (int y = 0; y < R.rows; ++y) {
-    const float* r = R.ptr<float>(y);
-    int x = 0;
-#ifdef RLD_RM_AVX2
-    if (avx2) {
-      const int at = rowFindAvx2(r, R.cols, m, x);
-      if (at >= 0) {
-        max_location = cv::Point(at, y);
-        return;
-      }
-    }
-#endif
-    for (; x < R.cols; ++x) {
-      if (r[x] == m) {
-        max_location = cv::Point(x, y);
-        return;
-      }
-    }
-  }
 }
 
 void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
@@ -117,19 +131,14 @@ void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Ran
     R.setTo(0);
   }
   const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, M.rows);
-#ifdef RLD_RM_AVX2
-  const bool avx2 = simdLevel() >= 1;
-#endif
   for (int y = r0; y < r1; ++y) {
     const float* m = M.ptr<float>(y);
     const float* g = G.ptr<float>(y);
     float* r = R.ptr<float>(y);
-    int x = 0;
-#ifdef RLD_RM_AVX2
-    if (avx2) x = fuseAvx2(m, g, tau_g, M.cols, r);
-#endif
+    int x = RLD_DISPATCH(fuseRow)(m, g, tau_g, M.cols, r);
     for (; x < M.cols; ++x) r[x] = fusedValue(m[x], g[x], tau_g);
   }
 }
 
 }  // namespace rgbd_lane_detector
+#endif  // HWY_ONCE

@@ -1,30 +1,86 @@
+// Stage 7: sliding-box tracing. The box sums (the stage's hot loop) are compiled for every SIMD
+// target (simd.h); this file is included once per target by Highway's foreach_target.h.
+#ifndef RLD_SLIDING_BOX_ONCE
+#define RLD_SLIDING_BOX_ONCE
 #include "rgbd_lane_detector/sliding_box.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
+#include "simd.h"
+#endif
+
+#ifdef RLD_HAVE_HWY
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "sliding_box.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+RLD_KERNELS_BEGIN
+
+// Pixels of r[0, w) above threshold among the whole vectors: their count and the sum of their
+// columns (from 0); returns the columns done.
+int boxRow(const float* r, int w, float threshold, int& count, int64_t& sum_x) {
+  const hn::ScalableTag<float> df;
+  const hn::RebindToSigned<decltype(df)> di;
+  const int N = static_cast<int>(hn::Lanes(df));
+  const auto thr = hn::Set(df, threshold);
+  auto cols = hn::Iota(di, 0);
+  auto sums = hn::Zero(di);  // column sums per lane: below 2^31 for any image row
+  int x = 0;
+  for (; x + N <= w; x += N) {
+    const auto above = hn::Gt(hn::LoadU(df, r + x), thr);
+    count += static_cast<int>(hn::CountTrue(df, above));
+    sums = hn::Add(sums, hn::IfThenElseZero(hn::RebindMask(di, above), cols));
+    cols = hn::Add(cols, hn::Set(di, N));
+  }
+  sum_x += hn::GetLane(hn::SumOfLanes(di, sums));
+  return x;
+}
+
+RLD_KERNELS_END
+#endif  // RLD_HAVE_HWY
+
+#if HWY_ONCE
 namespace rgbd_lane_detector {
 namespace {
 
+// The scalar target: no column done by a vector (boxCentroid() does them all).
+int boxRowScalar(const float*, int, float, int&, int64_t&) {
+  return 0;
+}
+#ifdef RLD_HAVE_HWY
+HWY_EXPORT(boxRow);
+#endif
+
 // Centroid of the pixels above threshold in the box of side s centred at c (clipped to bounds).
+// The sums are exact integers, so every target gives the same centroid.
 int boxCentroid(const cv::Mat& R, const cv::Point2f& c, int s, float threshold,
                 const cv::Rect& bounds, cv::Point2f& centroid) {
   const int x0 = static_cast<int>(std::floor(c.x - 0.5f * s + 0.5f));
   const int y0 = static_cast<int>(std::floor(c.y - 0.5f * s + 0.5f));
   const cv::Rect box = cv::Rect(x0, y0, s, s) & bounds;
-  double sx = 0, sy = 0;
+  int64_t sx = 0, sy = 0;
   int n = 0;
   for (int y = box.y; y < box.y + box.height; ++y) {
-    const float* r = R.ptr<float>(y);
-    for (int x = box.x; x < box.x + box.width; ++x) {
+    const float* r = R.ptr<float>(y) + box.x;
+    int count = 0;
+    int64_t sum_x = 0;
+    int x = RLD_DISPATCH(boxRow)(r, box.width, threshold, count, sum_x);
+    for (; x < box.width; ++x) {
       if (r[x] > threshold) {
-        sx += x;
-        sy += y;
-        ++n;
+        sum_x += x;
+        ++count;
       }
     }
+    sx += sum_x + static_cast<int64_t>(box.x) * count;
+    sy += static_cast<int64_t>(y) * count;
+    n += count;
   }
-  if (n > 0) centroid = cv::Point2f(static_cast<float>(sx / n), static_cast<float>(sy / n));
+  if (n > 0)
+    centroid = cv::Point2f(static_cast<float>(static_cast<double>(sx) / n),
+                           static_cast<float>(static_cast<double>(sy) / n));
   return n;
 }
 
@@ -36,8 +92,8 @@ float sampleR(const cv::Mat& R, const cv::Point2f& p) {
 
 // Trace one direction; appends the recorded centroids (in tracing order).
 void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
-                    const TraceParams& tp, const cv::Rect& bounds,
-                    std::vector<cv::Point2f>& out, std::vector<float>& scores) {
+                    const TraceParams& tp, const cv::Rect& bounds, std::vector<cv::Point2f>& out,
+                    std::vector<float>& scores) {
   cv::Point2f pos = start;
   cv::Point2f last = start;  // last recorded centroid
   const cv::Point2f d0 = d;
@@ -88,8 +144,8 @@ void traceMarker(const cv::Mat& R, const cv::Point2f& seed, double angle, const 
   scores.clear();
   if (R.empty() || R.type() != CV_32FC1) return;
   const cv::Rect bounds = bounds_in & cv::Rect(0, 0, R.cols, R.rows);
-  if (bounds.empty() || !bounds.contains(cv::Point(static_cast<int>(seed.x),
-                                                   static_cast<int>(seed.y))))
+  if (bounds.empty() ||
+      !bounds.contains(cv::Point(static_cast<int>(seed.x), static_cast<int>(seed.y))))
     return;
   cv::Point2f start;
   if (boxCentroid(R, seed, params.box_size, params.threshold, bounds, start) == 0) return;
@@ -105,3 +161,4 @@ void traceMarker(const cv::Mat& R, const cv::Point2f& seed, double angle, const 
 }
 
 }  // namespace rgbd_lane_detector
+#endif  // HWY_ONCE

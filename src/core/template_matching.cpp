@@ -1,24 +1,19 @@
+// Stage 4: NCC matching. The row kernels (accumulated lookups, prefix scan of a new row, scores)
+// are compiled for every SIMD target (simd.h); this file is included once per target by
+// Highway's foreach_target.h.
+#ifndef RLD_TEMPLATE_MATCHING_ONCE
+#define RLD_TEMPLATE_MATCHING_ONCE
 #include "rgbd_lane_detector/template_matching.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
 
-// Plain loops are compiled for AVX-512, AVX2 and the baseline, chosen at load time; integer sums
-// are exact, so every clone gives the same bits. Not under ThreadSanitizer: the clones' IFUNC
-// resolver would run, instrumented, before the TSan runtime is initialised.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_THREAD__)
-#define RLD_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define RLD_CLONES
-#endif
+#include "simd.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -28,47 +23,6 @@ void zero(cv::Mat& m, const cv::Rect& r) {
   if (r.width <= 0 || r.height <= 0) return;
   for (int y = r.y; y < r.br().y; ++y)
     std::memset(m.ptr<uint8_t>(y) + r.x * m.elemSize(), 0, r.width * m.elemSize());
-}
-
-// acc[x] (+)= sum of (plus_i[x] - minus_i[x]) over 1, 2 or 4 pairs, all mod 2^32.
-RLD_CLONES void pairs1(uint32_t* acc, bool add, const uint32_t* a, const uint32_t* b, int n) {
-  if (add)
-    for (int x = 0; x < n; ++x) acc[x] += a[x] - b[x];
-  else
-    for (int x = 0; x < n; ++x) acc[x] = a[x] - b[x];
-}
-RLD_CLONES void pairs2(uint32_t* acc, bool add, const uint32_t* a, const uint32_t* b,
-                       const uint32_t* c, const uint32_t* d, int n) {
-  if (add)
-    for (int x = 0; x < n; ++x) acc[x] += (a[x] - b[x]) + (c[x] - d[x]);
-  else
-    for (int x = 0; x < n; ++x) acc[x] = (a[x] - b[x]) + (c[x] - d[x]);
-}
-RLD_CLONES void pairs4(uint32_t* acc, bool add, const uint32_t* const* p, const uint32_t* const* m,
-                       int n) {
-  const uint32_t *a = p[0], *b = m[0], *c = p[1], *d = m[1], *e = p[2], *f = m[2], *g = p[3],
-                 *h = m[3];
-  if (add)
-    for (int x = 0; x < n; ++x)
-      acc[x] += ((a[x] - b[x]) + (c[x] - d[x])) + ((e[x] - f[x]) + (g[x] - h[x]));
-  else
-    for (int x = 0; x < n; ++x)
-      acc[x] = ((a[x] - b[x]) + (c[x] - d[x])) + ((e[x] - f[x]) + (g[x] - h[x]));
-}
-
-void accumulate(uint32_t* acc, const uint32_t* const* plus, const uint32_t* const* minus, int pairs,
-                int n) {
-  if (pairs == 0) {
-    std::fill(acc, acc + n, 0u);
-    return;
-  }
-  int i = 0;
-  for (; i + 4 <= pairs; i += 4) pairs4(acc, i > 0, plus + i, minus + i, n);
-  if (i + 2 <= pairs) {
-    pairs2(acc, i > 0, plus[i], minus[i], plus[i + 1], minus[i + 1], n);
-    i += 2;
-  }
-  if (i < pairs) pairs1(acc, i > 0, plus[i], minus[i], n);
 }
 
 /// One new image row: its prefix sums P(X) = sum of src[0, X) extend the integral images
@@ -114,6 +68,8 @@ struct ScoreRow {
   float* out[2];
 };
 
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+
 // One pixel, the definition every vector lane follows operation for operation:
 // diff2 = sum2 - sum^2 / area (exact in double, as OpenCV evaluates it); OpenCV's flat rule
 // diff2 <= min(0.5, 10 FLT_EPSILON sum2) scores 0; otherwise with the exact integer
@@ -127,270 +83,205 @@ inline void scorePixel(const ScoreRow& r, int x) {
   const double sum = S, sum2 = Q;
   const double diff2 = sum2 - sum * sum * r.inv_area;
   const bool keep = diff2 > std::min(0.5, 10 * FLT_EPSILON * sum2);
-  const float inv_sd =
-      (1.f / std::sqrt(static_cast<float>(keep ? diff2 : 1.0))) * (keep ? 1.f : 0.f);
+  // 1 / sqrt(inf) = 0: flat windows score 0
+  const float inv_sd = 1.f / std::sqrt(keep ? static_cast<float>(diff2) : kInfF);
   for (int k = 0; k < 2; ++k) {
     const int64_t N = static_cast<int64_t>(r.area) * static_cast<int32_t>(r.acc[k][x]) -
                       static_cast<int64_t>(r.count[k]) * S;
     const float v = static_cast<float>(N) * (inv_sd * r.k[k]);
-    r.out[k][x] = std::max(std::min(v, 1.f), 0.f);
+    r.out[k][x] = v > 0.f ? std::min(v, 1.f) : 0.f;  // +0 below (never -0: same bits everywhere)
   }
 }
-
-#if defined(__SSE2__)
-// Prefix sums by in-register scans, four columns per step (SSE2, the x86-64 baseline).
-// Returns P(w).
-uint32_t updateRowSse2(const RowUpdate& u) {
-  const __m128i zero = _mm_setzero_si128();
-  __m128i carry = zero, carry2 = zero;
-  int c = 0;
-  for (; c + 4 <= u.w; c += 4) {
-    int32_t word;
-    std::memcpy(&word, u.src + c, 4);
-    const __m128i v16 = _mm_unpacklo_epi8(_mm_cvtsi32_si128(word), zero);
-    __m128i v = _mm_unpacklo_epi16(v16, zero);
-    __m128i q = _mm_unpacklo_epi16(_mm_mullo_epi16(v16, v16), zero);  // 255^2 fits 16 bits
-    v = _mm_add_epi32(v, _mm_slli_si128(v, 4));
-    q = _mm_add_epi32(q, _mm_slli_si128(q, 4));
-    v = _mm_add_epi32(_mm_add_epi32(v, _mm_slli_si128(v, 8)), carry);
-    q = _mm_add_epi32(_mm_add_epi32(q, _mm_slli_si128(q, 8)), carry2);
-    carry = _mm_shuffle_epi32(v, 0xFF);
-    carry2 = _mm_shuffle_epi32(q, 0xFF);
-    const int X = c + 1;
-    auto at = [X](const uint32_t* p) {
-      return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + X));
-    };
-    auto put = [X](uint32_t* p, __m128i x) {
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(p + X), x);
-    };
-    put(u.ii_new, _mm_add_epi32(at(u.ii_old), v));
-    put(u.sq_new, _mm_add_epi32(at(u.sq_old), q));
-    for (int t = 0; t < u.tables; ++t) put(u.e_new[t], _mm_add_epi32(at(u.e_old[t]), v));
-  }
-  return updateTail(u, c, static_cast<uint32_t>(_mm_cvtsi128_si32(carry)),
-                    static_cast<uint32_t>(_mm_cvtsi128_si32(carry2)));
-}
-
-__attribute__((target("avx2"))) inline __m256i load8(const uint32_t* p) {
-  return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
-}
-
-// The same with AVX2, eight columns per step.
-__attribute__((target("avx2"))) uint32_t updateRowAvx2(const RowUpdate& u) {
-  __m256i carry = _mm256_setzero_si256(), carry2 = carry;
-  const __m256i last = _mm256_set1_epi32(7);
-  int c = 0;
-  for (; c + 8 <= u.w; c += 8) {
-    int64_t word;
-    std::memcpy(&word, u.src + c, 8);
-    const __m128i v16 = _mm_cvtepu8_epi16(_mm_cvtsi64_si128(word));
-    __m256i v = _mm256_cvtepu16_epi32(v16);
-    __m256i q = _mm256_cvtepu16_epi32(_mm_mullo_epi16(v16, v16));  // 255^2 fits 16 bits
-    // scan inside each 128-bit lane, then carry the low lane's total into the high lane
-    v = _mm256_add_epi32(v, _mm256_slli_si256(v, 4));
-    q = _mm256_add_epi32(q, _mm256_slli_si256(q, 4));
-    v = _mm256_add_epi32(v, _mm256_slli_si256(v, 8));
-    q = _mm256_add_epi32(q, _mm256_slli_si256(q, 8));
-    const __m256i tv = _mm256_shuffle_epi32(v, 0xFF), tq = _mm256_shuffle_epi32(q, 0xFF);
-    v = _mm256_add_epi32(_mm256_add_epi32(v, _mm256_permute2x128_si256(tv, tv, 0x08)), carry);
-    q = _mm256_add_epi32(_mm256_add_epi32(q, _mm256_permute2x128_si256(tq, tq, 0x08)), carry2);
-    carry = _mm256_permutevar8x32_epi32(v, last);
-    carry2 = _mm256_permutevar8x32_epi32(q, last);
-    const int X = c + 1;
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(u.ii_new + X),
-                        _mm256_add_epi32(load8(u.ii_old + X), v));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(u.sq_new + X),
-                        _mm256_add_epi32(load8(u.sq_old + X), q));
-    for (int t = 0; t < u.tables; ++t)
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(u.e_new[t] + X),
-                          _mm256_add_epi32(load8(u.e_old[t] + X), v));
-  }
-  return updateTail(u, c, static_cast<uint32_t>(_mm256_cvtsi256_si32(carry)),
-                    static_cast<uint32_t>(_mm256_cvtsi256_si32(carry2)));
-}
-
-uint32_t updateRow(const RowUpdate& u) {
-  return simdLevel() >= 1 ? updateRowAvx2(u) : updateRowSse2(u);
-}
-
-// Four pixels with SSE2 (x86-64 baseline).
-void scoreRowSse2(const ScoreRow& r, int n) {
-  const __m128d inv_area = _mm_set1_pd(r.inv_area), eps = _mm_set1_pd(10 * FLT_EPSILON),
-                half = _mm_set1_pd(0.5), one = _mm_set1_pd(1.0), area = _mm_set1_pd(r.area);
-  const __m128d count[2] = {_mm_set1_pd(r.count[0]), _mm_set1_pd(r.count[1])};
-  const __m128 kk[2] = {_mm_set1_ps(r.k[0]), _mm_set1_ps(r.k[1])};
-  const __m128 f_one = _mm_set1_ps(1.f), f_zero = _mm_setzero_ps();
-  int x = 0;
-  for (; x + 4 <= n; x += 4) {
-    auto load = [x](const uint32_t* p) {
-      return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + x));
-    };
-    const __m128i S = _mm_sub_epi32(_mm_sub_epi32(load(r.bottom + r.s), load(r.bottom)),
-                                    _mm_sub_epi32(load(r.top + r.s), load(r.top)));
-    if (_mm_movemask_epi8(_mm_cmpeq_epi32(S, _mm_setzero_si128())) == 0xFFFF) {
-      _mm_storeu_ps(r.out[0] + x, f_zero);  // windows of zeros are flat
-      _mm_storeu_ps(r.out[1] + x, f_zero);
-      continue;
-    }
-    const __m128i Q = _mm_sub_epi32(_mm_sub_epi32(load(r.bottom_sq + r.s), load(r.bottom_sq)),
-                                    _mm_sub_epi32(load(r.top_sq + r.s), load(r.top_sq)));
-    const __m128i A[2] = {load(r.acc[0]), load(r.acc[1])};
-    __m128 d_f[2], keep_f[2], num_f[2][2];
-    for (int h = 0; h < 2; ++h) {
-      const __m128i Sh = h ? _mm_unpackhi_epi64(S, S) : S;
-      const __m128i Qh = h ? _mm_unpackhi_epi64(Q, Q) : Q;
-      const __m128d sum = _mm_cvtepi32_pd(Sh), sum2 = _mm_cvtepi32_pd(Qh);
-      const __m128d diff2 = _mm_sub_pd(sum2, _mm_mul_pd(_mm_mul_pd(sum, sum), inv_area));
-      const __m128d keep = _mm_cmpgt_pd(diff2, _mm_min_pd(half, _mm_mul_pd(eps, sum2)));
-      d_f[h] = _mm_cvtpd_ps(_mm_or_pd(_mm_and_pd(keep, diff2), _mm_andnot_pd(keep, one)));
-      keep_f[h] = _mm_cvtpd_ps(_mm_and_pd(keep, one));
-      for (int k = 0; k < 2; ++k) {
-        const __m128i Ah = h ? _mm_unpackhi_epi64(A[k], A[k]) : A[k];
-        // exact integers below 2^53
-        num_f[k][h] = _mm_cvtpd_ps(
-            _mm_sub_pd(_mm_mul_pd(area, _mm_cvtepi32_pd(Ah)), _mm_mul_pd(count[k], sum)));
-      }
-    }
-    const __m128 inv_sd = _mm_mul_ps(_mm_div_ps(f_one, _mm_sqrt_ps(_mm_movelh_ps(d_f[0], d_f[1]))),
-                                     _mm_movelh_ps(keep_f[0], keep_f[1]));
-    for (int k = 0; k < 2; ++k) {
-      const __m128 v =
-          _mm_mul_ps(_mm_movelh_ps(num_f[k][0], num_f[k][1]), _mm_mul_ps(inv_sd, kk[k]));
-      _mm_storeu_ps(r.out[k] + x, _mm_max_ps(_mm_min_ps(v, f_one), f_zero));
-    }
-  }
-  for (; x < n; ++x) scorePixel(r, x);
-}
-
-// Eight pixels with AVX2, the same values lane for lane (N is computed in exact 32-bit
-// integers, which needs area * acc < 2^31: templates up to 45 px).
-__attribute__((target("avx2"))) void scoreRowAvx2(const ScoreRow& r, int n, int from = 0) {
-  const __m256d inv_area = _mm256_set1_pd(r.inv_area), eps = _mm256_set1_pd(10 * FLT_EPSILON),
-                half = _mm256_set1_pd(0.5), one = _mm256_set1_pd(1.0);
-  const __m256i area = _mm256_set1_epi32(r.area);
-  const __m256i count[2] = {_mm256_set1_epi32(r.count[0]), _mm256_set1_epi32(r.count[1])};
-  const __m256 kk[2] = {_mm256_set1_ps(r.k[0]), _mm256_set1_ps(r.k[1])};
-  const __m256 f_one = _mm256_set1_ps(1.f), f_zero = _mm256_setzero_ps();
-  int x = from;
-  for (; x + 8 <= n; x += 8) {
-    const __m256i S =
-        _mm256_sub_epi32(_mm256_sub_epi32(load8(r.bottom + r.s + x), load8(r.bottom + x)),
-                         _mm256_sub_epi32(load8(r.top + r.s + x), load8(r.top + x)));
-    if (_mm256_testz_si256(S, S)) {
-      _mm256_storeu_ps(r.out[0] + x, f_zero);  // windows of zeros are flat
-      _mm256_storeu_ps(r.out[1] + x, f_zero);
-      continue;
-    }
-    const __m256i Q =
-        _mm256_sub_epi32(_mm256_sub_epi32(load8(r.bottom_sq + r.s + x), load8(r.bottom_sq + x)),
-                         _mm256_sub_epi32(load8(r.top_sq + r.s + x), load8(r.top_sq + x)));
-    __m128 d_f[2], keep_f[2];
-    for (int h = 0; h < 2; ++h) {
-      const __m128i Sh = h ? _mm256_extracti128_si256(S, 1) : _mm256_castsi256_si128(S);
-      const __m128i Qh = h ? _mm256_extracti128_si256(Q, 1) : _mm256_castsi256_si128(Q);
-      const __m256d sum = _mm256_cvtepi32_pd(Sh), sum2 = _mm256_cvtepi32_pd(Qh);
-      const __m256d diff2 = _mm256_sub_pd(sum2, _mm256_mul_pd(_mm256_mul_pd(sum, sum), inv_area));
-      const __m256d keep =
-          _mm256_cmp_pd(diff2, _mm256_min_pd(half, _mm256_mul_pd(eps, sum2)), _CMP_GT_OQ);
-      d_f[h] = _mm256_cvtpd_ps(_mm256_blendv_pd(one, diff2, keep));
-      keep_f[h] = _mm256_cvtpd_ps(_mm256_and_pd(keep, one));
-    }
-    const __m256 inv_sd =
-        _mm256_mul_ps(_mm256_div_ps(f_one, _mm256_sqrt_ps(_mm256_set_m128(d_f[1], d_f[0]))),
-                      _mm256_set_m128(keep_f[1], keep_f[0]));
-    for (int k = 0; k < 2; ++k) {
-      const __m256i N = _mm256_sub_epi32(_mm256_mullo_epi32(area, load8(r.acc[k] + x)),
-                                         _mm256_mullo_epi32(count[k], S));
-      const __m256 v = _mm256_mul_ps(_mm256_cvtepi32_ps(N), _mm256_mul_ps(inv_sd, kk[k]));
-      _mm256_storeu_ps(r.out[k] + x, _mm256_max_ps(_mm256_min_ps(v, f_one), f_zero));
-    }
-  }
-  for (; x < n; ++x) scorePixel(r, x);
-}
-
-// GCC 12 warns about its own _mm512_undefined_*() inside avx512fintrin.h (PR105593).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#define RLD_AVX512 __attribute__((target("avx512f"), always_inline)) inline
-RLD_AVX512 __m512i ld(const uint32_t* p) {
-  return _mm512_loadu_si512(p);
-}
-RLD_AVX512 __m512d toDouble(__m256i v) {
-  return _mm512_maskz_cvtepi32_pd(0xFF, v);
-}
-RLD_AVX512 __m512 join(__m256 lo, __m256 hi) {
-  return _mm512_castpd_ps(_mm512_mask_insertf64x4(
-      _mm512_castps_pd(_mm512_castps256_ps512(lo)), 0xFF,
-      _mm512_castps_pd(_mm512_castps256_ps512(lo)), _mm256_castps_pd(hi), 1));
-}
-
-// Sixteen pixels with AVX-512, the same values lane for lane (no FMA contraction).
-__attribute__((target("avx512f"), optimize("fp-contract=off"))) void scoreRowAvx512(
-    const ScoreRow& r, int n) {
-  const __m512d inv_area = _mm512_set1_pd(r.inv_area), eps = _mm512_set1_pd(10 * FLT_EPSILON),
-                half = _mm512_set1_pd(0.5), one = _mm512_set1_pd(1.0);
-  const __m512i area = _mm512_set1_epi32(r.area);
-  const __m512i count[2] = {_mm512_set1_epi32(r.count[0]), _mm512_set1_epi32(r.count[1])};
-  const __m512 kk[2] = {_mm512_set1_ps(r.k[0]), _mm512_set1_ps(r.k[1])};
-  const __m512 f_one = _mm512_set1_ps(1.f), f_zero = _mm512_setzero_ps();
-  int x = 0;
-  for (; x + 16 <= n; x += 16) {
-    const __m512i S = _mm512_sub_epi32(_mm512_sub_epi32(ld(r.bottom + r.s + x), ld(r.bottom + x)),
-                                       _mm512_sub_epi32(ld(r.top + r.s + x), ld(r.top + x)));
-    if (_mm512_test_epi32_mask(S, S) == 0) {
-      _mm512_storeu_ps(r.out[0] + x, f_zero);  // windows of zeros are flat
-      _mm512_storeu_ps(r.out[1] + x, f_zero);
-      continue;
-    }
-    const __m512i Q =
-        _mm512_sub_epi32(_mm512_sub_epi32(ld(r.bottom_sq + r.s + x), ld(r.bottom_sq + x)),
-                         _mm512_sub_epi32(ld(r.top_sq + r.s + x), ld(r.top_sq + x)));
-    __m256 d_f[2], keep_f[2];
-    for (int h = 0; h < 2; ++h) {
-      const __m256i Sh = h ? _mm512_maskz_extracti64x4_epi64(0xF, S, 1) : _mm512_castsi512_si256(S);
-      const __m256i Qh = h ? _mm512_maskz_extracti64x4_epi64(0xF, Q, 1) : _mm512_castsi512_si256(Q);
-      const __m512d sum = toDouble(Sh), sum2 = toDouble(Qh);
-      const __m512d diff2 = _mm512_sub_pd(sum2, _mm512_mul_pd(_mm512_mul_pd(sum, sum), inv_area));
-      const __mmask8 keep =
-          _mm512_cmp_pd_mask(diff2, _mm512_min_pd(half, _mm512_mul_pd(eps, sum2)), _CMP_GT_OQ);
-      d_f[h] = _mm512_maskz_cvtpd_ps(0xFF, _mm512_mask_blend_pd(keep, one, diff2));
-      keep_f[h] = _mm512_maskz_cvtpd_ps(0xFF, _mm512_maskz_mov_pd(keep, one));
-    }
-    const __m512 inv_sd =
-        _mm512_mul_ps(_mm512_div_ps(f_one, _mm512_maskz_sqrt_ps(0xFFFF, join(d_f[0], d_f[1]))),
-                      join(keep_f[0], keep_f[1]));
-    for (int k = 0; k < 2; ++k) {
-      const __m512i N = _mm512_sub_epi32(_mm512_mullo_epi32(area, ld(r.acc[k] + x)),
-                                         _mm512_mullo_epi32(count[k], S));
-      const __m512 v = _mm512_mul_ps(_mm512_cvtepi32_ps(N), _mm512_mul_ps(inv_sd, kk[k]));
-      _mm512_storeu_ps(r.out[k] + x, _mm512_max_ps(_mm512_min_ps(v, f_one), f_zero));
-    }
-  }
-  scoreRowAvx2(r, n, x);
-}
-#pragma GCC diagnostic pop
-
-void scoreRow(const ScoreRow& r, int n) {
-  const int level = simdLevel();
-  if (level == 2 && r.s <= 45)
-    scoreRowAvx512(r, n);
-  else if (level == 1 && r.s <= 45)
-    scoreRowAvx2(r, n);
-  else
-    scoreRowSse2(r, n);
-}
-#else
-uint32_t updateRow(const RowUpdate& u) {
-  return updateTail(u, 0, 0, 0);
-}
-
-void scoreRow(const ScoreRow& r, int n) {
-  for (int x = 0; x < n; ++x) scorePixel(r, x);
-}
-#endif
 
 }  // namespace
+}  // namespace rgbd_lane_detector
+#endif  // RLD_TEMPLATE_MATCHING_ONCE
 
+#ifdef RLD_HAVE_HWY
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "template_matching.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+RLD_KERNELS_BEGIN
+
+// acc[x] = the sum of (plus_i[x] - minus_i[x]) over the pairs, mod 2^32 (any order: exact).
+void accumulateRow(uint32_t* acc, const uint32_t* const* plus, const uint32_t* const* minus,
+                   int pairs, int n) {
+  const hn::ScalableTag<uint32_t> d;
+  const int N = static_cast<int>(hn::Lanes(d));
+  auto diff = [&](int i, int x) {
+    return hn::Sub(hn::LoadU(d, plus[i] + x), hn::LoadU(d, minus[i] + x));
+  };
+  int x = 0;
+  for (; x + 4 * N <= n; x += 4 * N) {  // four vectors of sums in registers over all pairs
+    auto a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
+    for (int i = 0; i < pairs; ++i) {
+      a0 = hn::Add(a0, diff(i, x));
+      a1 = hn::Add(a1, diff(i, x + N));
+      a2 = hn::Add(a2, diff(i, x + 2 * N));
+      a3 = hn::Add(a3, diff(i, x + 3 * N));
+    }
+    hn::StoreU(a0, d, acc + x);
+    hn::StoreU(a1, d, acc + x + N);
+    hn::StoreU(a2, d, acc + x + 2 * N);
+    hn::StoreU(a3, d, acc + x + 3 * N);
+  }
+  for (; x + N <= n; x += N) {
+    auto a = hn::Zero(d);
+    for (int i = 0; i < pairs; ++i) a = hn::Add(a, diff(i, x));
+    hn::StoreU(a, d, acc + x);
+  }
+  for (; x < n; ++x) {
+    uint32_t a = 0;
+    for (int i = 0; i < pairs; ++i) a += plus[i][x] - minus[i][x];
+    acc[x] = a;
+  }
+}
+
+// Prefix sums of a new row by in-register scans, 4 or 8 columns per step (256-bit vectors at
+// most: the scan crosses one 128-bit block boundary). Returns P(w).
+uint32_t updateRowKernel(const RowUpdate& u) {
+  const hn::CappedTag<uint32_t, 8> d;
+  const hn::Rebind<uint16_t, decltype(d)> d16;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  constexpr int N = static_cast<int>(hn::MaxLanes(d));
+  auto carry = hn::Zero(d), carry2 = carry;
+  int c = 0;
+  for (; c + N <= u.w; c += N) {
+    const auto v16 = hn::PromoteTo(d16, hn::LoadU(d8, u.src + c));
+    auto v = hn::PromoteTo(d, v16);
+    auto q = hn::PromoteTo(d, hn::Mul(v16, v16));  // 255^2 fits 16 bits
+    v = hn::Add(v, hn::ShiftLeftLanes<1>(d, v));
+    q = hn::Add(q, hn::ShiftLeftLanes<1>(d, q));
+    v = hn::Add(v, hn::ShiftLeftLanes<2>(d, v));
+    q = hn::Add(q, hn::ShiftLeftLanes<2>(d, q));
+    auto tv = hn::Broadcast<3>(v), tq = hn::Broadcast<3>(q);  // per 128-bit block
+    if (N == 8) {  // the low block's total into the high block
+      v = hn::Add(v, hn::ConcatLowerLower(d, tv, hn::Zero(d)));
+      q = hn::Add(q, hn::ConcatLowerLower(d, tq, hn::Zero(d)));
+      tv = hn::Broadcast<3>(v);
+      tq = hn::Broadcast<3>(q);
+      tv = hn::ConcatUpperUpper(d, tv, tv);
+      tq = hn::ConcatUpperUpper(d, tq, tq);
+    }
+    v = hn::Add(v, carry);
+    q = hn::Add(q, carry2);
+    const auto next = hn::Add(tv, carry), next2 = hn::Add(tq, carry2);
+    const int X = c + 1;
+    hn::StoreU(hn::Add(hn::LoadU(d, u.ii_old + X), v), d, u.ii_new + X);
+    hn::StoreU(hn::Add(hn::LoadU(d, u.sq_old + X), q), d, u.sq_new + X);
+    for (int t = 0; t < u.tables; ++t)
+      hn::StoreU(hn::Add(hn::LoadU(d, u.e_old[t] + X), v), d, u.e_new[t] + X);
+    carry = next;
+    carry2 = next2;
+  }
+  return updateTail(u, c, hn::GetLane(carry), hn::GetLane(carry2));
+}
+
+// Scores of one row, whole vectors, the same values lane for lane as scorePixel(): S, Q and
+// diff2 in double, N exact (32-bit integers when area * acc < 2^31, templates up to 45 px; else
+// double, exact below 2^53). Returns the columns done.
+template <bool kWide>
+int scoreRowT(const ScoreRow& r, int n) {
+  const hn::ScalableTag<int32_t> d32;
+  const hn::Rebind<float, decltype(d32)> df;
+  const hn::Half<decltype(d32)> d32h;
+  const hn::Half<decltype(df)> dfh;
+  const hn::Rebind<double, decltype(d32h)> dd;
+  const int N = static_cast<int>(hn::Lanes(d32));
+  const auto inv_area = hn::Set(dd, r.inv_area), eps = hn::Set(dd, 10 * FLT_EPSILON),
+             half = hn::Set(dd, 0.5), inf_d = hn::Set(dd, std::numeric_limits<double>::infinity());
+  const auto f_one = hn::Set(df, 1.f), f_zero = hn::Zero(df);
+  auto ld = [&](const uint32_t* p) {
+    return hn::BitCast(d32, hn::LoadU(hn::RebindToUnsigned<decltype(d32)>(), p));
+  };
+  auto lower = [&](hn::Vec<decltype(d32)> v) { return hn::PromoteTo(dd, hn::LowerHalf(d32h, v)); };
+  auto upper = [&](hn::Vec<decltype(d32)> v) { return hn::PromoteTo(dd, hn::UpperHalf(d32h, v)); };
+  int x = 0;
+  for (; x + N <= n; x += N) {
+    const auto S = hn::Sub(hn::Sub(ld(r.bottom + r.s + x), ld(r.bottom + x)),
+                           hn::Sub(ld(r.top + r.s + x), ld(r.top + x)));
+    if (hn::AllTrue(d32, hn::Eq(S, hn::Zero(d32)))) {
+      hn::StoreU(f_zero, df, r.out[0] + x);  // windows of zeros are flat
+      hn::StoreU(f_zero, df, r.out[1] + x);
+      continue;
+    }
+    const auto Q = hn::Sub(hn::Sub(ld(r.bottom_sq + r.s + x), ld(r.bottom_sq + x)),
+                           hn::Sub(ld(r.top_sq + r.s + x), ld(r.top_sq + x)));
+    hn::Vec<decltype(dfh)> d_f[2];
+    hn::Vec<decltype(dd)> sum_d[2];
+    for (int h = 0; h < 2; ++h) {
+      const auto sum = h ? upper(S) : lower(S), sum2 = h ? upper(Q) : lower(Q);
+      sum_d[h] = sum;
+      const auto diff2 = hn::Sub(sum2, hn::Mul(hn::Mul(sum, sum), inv_area));
+      const auto keep = hn::Gt(diff2, hn::Min(half, hn::Mul(eps, sum2)));
+      d_f[h] = hn::DemoteTo(dfh, hn::IfThenElse(keep, diff2, inf_d));
+    }
+    const auto inv_sd = hn::Div(f_one, hn::Sqrt(hn::Combine(df, d_f[1], d_f[0])));
+    for (int k = 0; k < 2; ++k) {
+      hn::Vec<decltype(df)> num;
+      if (kWide) {
+        const auto A = ld(r.acc[k] + x);
+        const auto area = hn::Set(dd, r.area), count = hn::Set(dd, r.count[k]);
+        const auto n0 = hn::Sub(hn::Mul(area, lower(A)), hn::Mul(count, sum_d[0]));
+        const auto n1 = hn::Sub(hn::Mul(area, upper(A)), hn::Mul(count, sum_d[1]));
+        num = hn::Combine(df, hn::DemoteTo(dfh, n1), hn::DemoteTo(dfh, n0));
+      } else {
+        num = hn::ConvertTo(df, hn::Sub(hn::Mul(hn::Set(d32, r.area), ld(r.acc[k] + x)),
+                                        hn::Mul(hn::Set(d32, r.count[k]), S)));
+      }
+      const auto v = hn::Mul(num, hn::Mul(inv_sd, hn::Set(df, r.k[k])));
+      hn::StoreU(hn::IfThenElseZero(hn::Gt(v, f_zero), hn::Min(v, f_one)), df, r.out[k] + x);
+    }
+  }
+  return x;
+}
+
+int scoreRowKernel(const ScoreRow& r, int n) {
+  return r.s <= 45 ? scoreRowT<false>(r, n) : scoreRowT<true>(r, n);
+}
+
+RLD_KERNELS_END
+#endif  // RLD_HAVE_HWY
+
+#if HWY_ONCE
+namespace rgbd_lane_detector {
+namespace {
+
+// The scalar target: the per-pixel definitions.
+void accumulateRowScalar(uint32_t* acc, const uint32_t* const* plus, const uint32_t* const* minus,
+                         int pairs, int n) {
+  std::fill(acc, acc + n, 0u);
+  for (int i = 0; i < pairs; ++i)
+    for (int x = 0; x < n; ++x) acc[x] += plus[i][x] - minus[i][x];
+}
+uint32_t updateRowKernelScalar(const RowUpdate& u) {
+  return updateTail(u, 0, 0, 0);
+}
+int scoreRowKernelScalar(const ScoreRow&, int) {
+  return 0;  // scorePixel() does every column
+}
+#ifdef RLD_HAVE_HWY
+HWY_EXPORT(accumulateRow);
+HWY_EXPORT(updateRowKernel);
+HWY_EXPORT(scoreRowKernel);
+#endif
+
+uint32_t updateRow(const RowUpdate& u) {
+  return RLD_DISPATCH(updateRowKernel)(u);
+}
+
+void scoreRow(const ScoreRow& r, int n) {
+  for (int x = RLD_DISPATCH(scoreRowKernel)(r, n); x < n; ++x) scorePixel(r, x);
+}
+
+void accumulate(uint32_t* acc, const uint32_t* const* plus, const uint32_t* const* minus, int pairs,
+                int n) {
+  RLD_DISPATCH(accumulateRow)(acc, plus, minus, pairs, n);
+}
+
+}  // namespace
 void NccMatcher::compile(const LineTemplate& t, Compiled& c) {
   const int s = t.size, p = t.slope_p, q = std::max(t.slope_q, 1);
   c.p = p;
@@ -485,32 +376,6 @@ void NccMatcher::produceRow(const cv::Mat& image, const cv::Rect& region, int y)
     for (int X = -m; X <= 0; ++X) step(X);
     for (int X = w + 1; X <= w + m; ++X) step(X);
   }
-}
-
-namespace {
-std::atomic<bool> g_reference_stages{false};
-std::atomic<int> g_max_simd_level{2};
-}  // namespace
-
-void setMaxSimdLevel(int level) {
-  g_max_simd_level = level;
-}
-
-int simdLevel() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const int cpu =
-      __builtin_cpu_supports("avx512f") ? 2 : (__builtin_cpu_supports("avx2") ? 1 : 0);
-#else
-  static const int cpu = 0;
-#endif
-  return std::min(cpu, g_max_simd_level.load(std::memory_order_relaxed));
-}
-
-void setReferenceStages(bool enabled) {
-  g_reference_stages = enabled;
-}
-bool referenceStages() {
-  return g_reference_stages;
 }
 
 bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const LineTemplate& left,
@@ -647,3 +512,4 @@ void matchTemplateReference(const cv::Mat& image, const cv::Rect& region_in, con
 }
 
 }  // namespace rgbd_lane_detector
+#endif  // HWY_ONCE

@@ -1,12 +1,14 @@
 // Whole pipeline on rendered roads: both markers found, plane within 1 deg and 5 cm of truth.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/lane_detector.h"
-#include "rgbd_lane_detector/template_matching.h"
+#include "simd.h"  // private: targets and the reference stages
 #include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
@@ -120,43 +122,70 @@ TEST(LaneDetector, FastStagesGiveTheReferenceResults) {
   }
 }
 
-// The fast paths dispatch on the CPU (AVX-512, AVX2, the SSE2 baseline and plain C++): all give
-// the same bits, so results do not depend on the machine.
-TEST(LaneDetector, EveryInstructionSetGivesTheSameBits) {
-  const int cpu = simdLevel();
-  std::vector<Result> results(cpu + 1);
-  for (int level = cpu; level >= 0; --level) {
-    setMaxSimdLevel(level);
-    LaneDetector det(Params::improved());  // the road gate also keeps the normals
-    for (int i = 0; i < 4; ++i) {
-      RoadScene scene;
-      scene.width = 333;  // odd: vector bodies and scalar tails
-      scene.height = 201;
-      scene.K = Intrinsics{140.0, 140.0, 166.0, 100.0};
-      scene.right_dashed = true;
-      scene.lateral_offset = 0.2 * i;
-      cv::Mat bgr, depth;
-      const Frame f = makeFrame(scene, bgr, depth);
-      cv::circle(depth, cv::Point(60 + 40 * i, 150), 5, cv::Scalar(0), -1);  // missing depth
-      ASSERT_EQ(det.detect(f, results[level]), Status::kOk);
+// The kernels dispatch on the CPU (x86: AVX-512, AVX2, SSE4; aarch64: NEON; and the scalar
+// loops): every target this machine runs gives the same bits as the scalar one, so results do
+// not depend on the machine.
+TEST(LaneDetector, EveryTargetGivesTheSameBits) {
+  const std::vector<simd::Target> targets = simd::availableTargets();
+  ASSERT_FALSE(targets.empty());
+  EXPECT_EQ(targets.back(), simd::kScalar);
+#ifdef RLD_EXPECT_VECTOR_TARGETS  // x86 and aarch64 builds with Highway
+  EXPECT_GE(targets.size(), 2u) << "no vector target on this machine";
+#endif
+  std::vector<std::vector<Result>> results(targets.size());
+  for (size_t k = 0; k < targets.size(); ++k) {
+    simd::forceTarget(targets[k]);
+    EXPECT_EQ(simd::currentTarget(), targets[k]);
+    for (const Params& params : {Params::improved(), Params::paper()}) {
+      LaneDetector det(params);  // improved: the road gate also keeps the normals
+      for (int i = 0; i < 4; ++i) {
+        RoadScene scene;
+        scene.width = 333;  // odd: vector bodies and scalar tails
+        scene.height = 201;
+        scene.K = Intrinsics{140.0, 140.0, 166.0, 100.0};
+        scene.right_dashed = true;
+        scene.lateral_offset = 0.2 * i;
+        cv::Mat bgr, depth;
+        Frame f = makeFrame(scene, bgr, depth);
+        cv::circle(depth, cv::Point(60 + 40 * i, 150), 5, cv::Scalar(0), -1);  // missing depth
+        cv::Mat depth_m;  // float metres on odd frames: the other depth kernel
+        if (i % 2) {
+          depth.convertTo(depth_m, CV_32FC1, 0.001);
+          f.depth = depth_m;
+        }
+        results[k].emplace_back();
+        ASSERT_EQ(det.detect(f, results[k].back()), Status::kOk);
+        results[k].back().half_binary = results[k].back().half_binary.clone();  // kept
+        results[k].back().geometric = results[k].back().geometric.clone();
+        results[k].back().response_left = results[k].back().response_left.clone();
+        results[k].back().response_right = results[k].back().response_right.clone();
+      }
     }
   }
-  setMaxSimdLevel(2);
+  simd::forceTarget(simd::kBest);
   auto bits = [](const cv::Mat& a, const cv::Mat& b) {
     return a.size() == b.size() && a.type() == b.type() &&
            std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
   };
-  for (int level = 0; level < cpu; ++level) {
-    SCOPED_TRACE(testing::Message() << "level " << level << " against " << cpu);
-    const Result& a = results[level];
-    const Result& b = results[cpu];
-    EXPECT_TRUE(bits(a.half_binary, b.half_binary));
-    EXPECT_TRUE(bits(a.geometric, b.geometric));
-    EXPECT_TRUE(bits(a.response_left, b.response_left));
-    EXPECT_TRUE(bits(a.response_right, b.response_right));
-    EXPECT_EQ(a.left.pixels, b.left.pixels);
-    EXPECT_EQ(a.right.pixels, b.right.pixels);
-    EXPECT_EQ(a.plane.normal, b.plane.normal);
+  const size_t ref = targets.size() - 1;  // the scalar target (the last, lowest)
+  for (size_t k = 0; k < ref; ++k) {
+    for (size_t i = 0; i < results[k].size(); ++i) {
+      SCOPED_TRACE(testing::Message() << simd::targetName(targets[k]) << " against "
+                                      << simd::targetName(targets[ref]) << ", frame " << i);
+      const Result& a = results[k][i];
+      const Result& b = results[ref][i];
+      EXPECT_TRUE(bits(a.half_binary, b.half_binary));
+      EXPECT_TRUE(bits(a.geometric, b.geometric));
+      EXPECT_TRUE(bits(a.response_left, b.response_left));
+      EXPECT_TRUE(bits(a.response_right, b.response_right));
+      EXPECT_EQ(a.left.pixels, b.left.pixels);
+      EXPECT_EQ(a.right.pixels, b.right.pixels);
+      EXPECT_EQ(a.left.found, b.left.found);
+      EXPECT_EQ(a.right.found, b.right.found);
+      EXPECT_EQ(a.plane.valid, b.plane.valid);
+      EXPECT_EQ(a.plane.normal, b.plane.normal);
+      EXPECT_EQ(a.plane.distance, b.plane.distance);
+    }
   }
 }
 

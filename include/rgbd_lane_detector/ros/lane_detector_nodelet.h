@@ -88,6 +88,8 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
                      const sensor_msgs::ImageConstPtr& depth,
                      const sensor_msgs::CameraInfoConstPtr& info);
   /// The frame's fate; @p detail names a drop's problem (static text) or stays null.
+  /// On camera_info: LaneDetector::prepare() when the camera's size or intrinsics change.
+  void prepareDetector(const CameraInfo& info);
   FrameOutcome processFrame(const Image& colour, const Image& depth, const CameraInfo& info,
                             const char*& detail);
   /// Every colour frame the nodelet receives: counted in accounting_, then acceptInput().
@@ -142,6 +144,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   Params frame_params_;  ///< parameters the detector runs with
   uint64_t applied_version_ = 0;
   cv::Mat depth_swap_;  ///< byte-swapped depth (foreign-endian streams only)
+  cv::Size prepared_size_;      ///< camera the detector was last prepared for
+  Intrinsics prepared_K_;
+  bool first_frame_pending_ = false;  ///< log the first detect() after prepare()
 
   // --- tf -----------------------------------------------------------------------------------
   std::string target_frame_;  ///< output frame; empty: the colour optical frame

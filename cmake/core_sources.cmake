@@ -1,0 +1,53 @@
+# The ROS-free core's sources and unit tests, shared by the catkin build (CMakeLists.txt,
+# test/CMakeLists.txt) and the aarch64 cross build (cmake/arm64/CMakeLists.txt). Paths are
+# relative to the package root.
+set(RLD_CORE_SOURCES
+  src/core/params.cpp
+  src/core/params_io.cpp
+  src/core/types.cpp
+  src/core/half_binary.cpp
+  src/core/adaptive_threshold.cpp
+  src/core/depth_points.cpp
+  src/core/disparity_depth.cpp
+  src/core/fals_normals.cpp
+  src/core/line_template.cpp
+  src/core/template_matching.cpp
+  src/core/response_map.cpp
+  src/core/pca_refinement.cpp
+  src/core/sliding_box.cpp
+  src/core/lane_plane.cpp
+  src/core/lane_detector.cpp
+  src/core/road_surface.cpp
+  src/core/road_edge_finder.cpp
+  src/core/boundary_classifier.cpp
+  src/core/boundary_candidates.cpp
+  src/core/lane_fitter.cpp
+  src/core/lane_model.cpp
+  src/core/lane_tracker.cpp
+  src/core/overlay.cpp
+  src/core/simd.cpp
+)
+# each is test/core/<name>.cpp, linked with test/core/synthetic_scene.cpp
+set(RLD_CORE_TESTS
+  test_half_binary
+  test_depth_points
+  test_disparity_depth
+  test_fals_normals
+  test_template_matching
+  test_response_map
+  test_pca_refinement
+  test_sliding_box
+  test_lane_plane
+  test_lane_detector
+  test_bad_input
+  test_params
+  test_lane_tracker
+  test_road_surface
+  test_road_edge_finder
+  test_boundary_classifier
+  test_boundary_candidates
+  test_lane_fitter
+  test_adaptive_threshold
+  test_allocations
+  test_lane_model
+)

@@ -1,0 +1,28 @@
+# The core's SIMD kernels (src/core/simd.h): Google Highway with runtime dispatch when found
+# (Debian 12: libhwy-dev), plain C++ loops otherwise (Ubuntu 20.04 has no libhwy-dev and rosdep
+# no key for it). Used by the catkin build and by the aarch64 cross build (cmake/arm64).
+find_package(hwy QUIET)
+if(hwy_FOUND)
+  message(STATUS "Highway ${hwy_VERSION}: SIMD kernels dispatched at run time (x86: SSE4, AVX2, "
+                 "AVX-512 and EMU128; aarch64: NEON and EMU128)")
+else()
+  message(WARNING "Highway (libhwy-dev) not found: the detector's kernels are plain C++ loops, "
+                  "about 5x slower than with it. Install libhwy-dev (Debian 12, Ubuntu 22.04+) "
+                  "for the SIMD path.")
+endif()
+
+# Compile a target's kernels: its private headers (src/core), no FMA contraction (every target
+# gives the scalar code's bits), and with Highway every attainable target (EMU128 is the scalar
+# one the tests and benchmarks force; SSSE3 and the SVE variants are left out: SSE4 and NEON are
+# the 128-bit targets). Highway 1.0.3 swaps EMU128 for the one-lane HWY_SCALAR under GCC < 12.3
+# (GCC bug 106322, wrong code for 16-bit MulHigh, which no kernel uses): EMU128 is kept, and
+# test_lane_detector compares its bits with every other target's.
+function(rld_simd_setup target)
+  target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/src/core)
+  target_compile_options(${target} PRIVATE -ffp-contract=off)
+  if(hwy_FOUND)
+    target_compile_definitions(${target} PRIVATE RLD_HAVE_HWY HWY_COMPILE_ALL_ATTAINABLE HWY_BROKEN_EMU128=0
+      "HWY_DISABLED_TARGETS=(HWY_SSSE3|HWY_SVE|HWY_SVE2|HWY_SVE_256|HWY_SVE2_128)")
+    target_link_libraries(${target} hwy::hwy)
+  endif()
+endfunction()
