@@ -463,9 +463,11 @@ void LaneDetector::applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat&
     float* mr = right.ptr<float>(y);
     for (int x0 = 0; x0 < proc_size_.width; x0 += kBlock) {
       const int x1 = std::min(x0 + kBlock, proc_size_.width);
-      float top = 0.f;  // the block's best match (a max the compiler vectorises)
-      for (int x = x0; x < x1; ++x) top = std::max(top, std::max(ml[x], mr[x]));
-      if (top < tau) continue;
+      // any match in the block at tau or above (an OR of comparisons, which the compiler
+      // vectorises; a float max chain is ordered and stays scalar without -ffast-math)
+      int any = 0;
+      for (int x = x0; x < x1; ++x) any |= static_cast<int>(ml[x] >= tau) | static_cast<int>(mr[x] >= tau);
+      if (!any) continue;
       for (int x = x0; x < x1; ++x) {
         if (ml[x] < tau && mr[x] < tau) continue;
         const float* p = q + 3 * x;
