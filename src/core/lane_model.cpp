@@ -111,10 +111,10 @@ float calibratedConfidence(float evidence) {
   // pooled block at its mean evidence with P = (correct + 1) / (boundaries + 2);
   // tools/scripts/fit_confidence.py build/eval/lane_model.csv prints this table.
   static constexpr float kKnots[][2] = {
-      {0.0000f, 0.7692f}, {0.1555f, 0.7692f}, {0.2200f, 0.8246f}, {0.4422f, 0.9339f},
-      {0.6159f, 0.9744f}, {0.7121f, 0.9773f}, {0.7582f, 0.9851f}, {0.7805f, 0.9904f},
-      {0.8094f, 0.9930f}, {0.8553f, 0.9947f}, {0.9279f, 0.9980f}, {0.9528f, 0.9981f},
-      {0.9714f, 0.9997f}, {1.0000f, 0.9997f}};
+      {0.0000f, 0.8551f}, {0.2495f, 0.8551f}, {0.4622f, 0.8936f}, {0.5606f, 0.9200f},
+      {0.6199f, 0.9231f}, {0.6570f, 0.9490f}, {0.7118f, 0.9624f}, {0.7747f, 0.9841f},
+      {0.8034f, 0.9852f}, {0.8172f, 0.9887f}, {0.8332f, 0.9924f}, {0.8785f, 0.9974f},
+      {0.9428f, 0.9988f}, {0.9728f, 0.9997f}, {1.0000f, 0.9997f}};
   constexpr int n = sizeof(kKnots) / sizeof(kKnots[0]);
   if (!(evidence > kKnots[0][0])) return kKnots[0][1];
   for (int i = 1; i < n; ++i) {
