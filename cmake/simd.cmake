@@ -4,7 +4,7 @@
 find_package(hwy QUIET)
 if(hwy_FOUND)
   message(STATUS "Highway ${hwy_VERSION}: SIMD kernels dispatched at run time (x86: SSE4, AVX2, "
-                 "AVX-512 and EMU128; aarch64: NEON and EMU128)")
+                 "AVX-512; aarch64: NEON; the plain loops elsewhere)")
 else()
   message(WARNING "Highway (libhwy-dev) not found: the detector's kernels are plain C++ loops, "
                   "about 5x slower than with it. Install libhwy-dev (Debian 12, Ubuntu 22.04+) "
@@ -12,11 +12,13 @@ else()
 endif()
 
 # Compile a target's kernels: its private headers (src/core), no FMA contraction (every target
-# gives the scalar code's bits), and with Highway every attainable target (EMU128 is the scalar
-# one the tests and benchmarks force; SSSE3 and the SVE variants are left out: SSE4 and NEON are
-# the 128-bit targets). Highway 1.0.3 swaps EMU128 for the one-lane HWY_SCALAR under GCC < 12.3
-# (GCC bug 106322, wrong code for 16-bit MulHigh, which no kernel uses): EMU128 is kept, and
-# test_lane_detector compares its bits with every other target's.
+# gives the scalar code's bits), and with Highway every attainable target (SSSE3 and the SVE
+# variants are left out: SSE4 and NEON are the 128-bit targets). EMU128 is Highway's baseline and
+# is compiled, but simd.h never chooses it and no test runs it: its emulated double->float
+# demotion saturates infinity to FLT_MAX, so the NCC flat-window rule (1 / sqrt(inf) = 0) would
+# not hold; the plain loops (kScalar) are the scalar target. Highway 1.0.3 swaps EMU128 for the
+# one-lane HWY_SCALAR under GCC < 12.3 (GCC bug 106322, 16-bit MulHigh); HWY_BROKEN_EMU128=0
+# keeps the baseline EMU128 so the dispatch tables stay the same on every compiler.
 function(rld_simd_setup target)
   target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR}/src/core)
   target_compile_options(${target} PRIVATE -ffp-contract=off)

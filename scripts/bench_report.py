@@ -382,7 +382,8 @@ def main():
              "others repeat every q rows shifted by p columns and are summed as residue chains "
              "of a running sum along the slope: 8 lookups per pixel at 45 degrees, 4 + 4q in "
              "general, independent of the template size. Window sums and energies come from "
-             "integral images; all sums are exact integers (mod 2^32). Rows are produced in a "
+             "integral images; all sums are exact integers (mod 2^32; a window's energy is "
+             "unsigned, up to 65536 x 255^2 for the largest template). Rows are produced in a "
              "ring (one fused prefix-scan pass) and scored with OpenCV's flat-window rule.")
     L.append("- **FALS** (fals_normals.cpp): M = B Q B^T, b = B s in the basis "
              "B = [w_centre, e_x/fx, e_y/fy], where Q = sum k (1,du,dv)(1,du,dv)^T is nearly "
@@ -409,8 +410,9 @@ def main():
              "profile_core/bench_disparity with g++-aarch64-linux-gnu against Debian's arm64 "
              "libraries and runs the gtests under qemu-aarch64, NEON and scalar targets, and "
              "compares detect() on a fixed drive with this machine's (test_golden_detections: "
-             "counts, flags and kinds exact, pixels within 1e-4 px, points and offsets within "
-             "1e-5 m, normals and angles within 1e-6, scores within 1e-5). Timings under "
+             "counts, flags and kinds exact, pixels within 1e-4 px, points within 1e-5 m, the "
+             "plane (normal and offset), normals and angles within 1e-6, scores within 1e-5). "
+             "Timings under "
              "emulation are not speed figures: no ARM figure is given here.")
     L.append("")
     L.append("For decisions on this shared 2-core machine use instruction counts, which do not "

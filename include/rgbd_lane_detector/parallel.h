@@ -36,10 +36,12 @@ class PairBody : public cv::ParallelLoopBody {
  * @brief Run a() and b(), which must not depend on each other: as two stripes of
  * cv::parallel_for_ when OpenCV may use more than one thread (cv::getNumThreads(), so
  * cv::setNumThreads(1) keeps the whole detector on one thread), one after the other otherwise
- * (and when OpenCV runs the loop serially, e.g. nested in another parallel loop; and under
- * ThreadSanitizer). Returns when
- * both are done; an exception of either reaches the caller. Allocates nothing per call with
- * Debian's OpenCV (TBB back end; test_allocations).
+ * and under ThreadSanitizer. OpenCV also runs the loop serially when it is nested in another
+ * parallel loop, and its nesting flag is process-wide: while one thread of the process is inside
+ * cv::parallel_for_ (another detector, or any OpenCV call that parallelises), this pair runs on
+ * the calling thread, one after the other. Returns when both are done; an exception of either
+ * reaches the caller. Allocates nothing per call with Debian's OpenCV (TBB back end;
+ * test_allocations).
  */
 template <typename A, typename B>
 void runPair(A&& a, B&& b) {

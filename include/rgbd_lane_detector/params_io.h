@@ -24,7 +24,7 @@ bool setParam(Params& p, const std::string& name, double value);
 
 /**
  * @brief Set one field by name from text as in a YAML file: a number, true/false, or an enum
- * name (near_high, far_high, three_point, least_squares).
+ * name (near_high, far_high, three_point, least_squares, road_surface).
  * @return false for an unknown name or a malformed value (@p error says which).
  */
 bool setParamText(Params& p, const std::string& name, const std::string& text,
@@ -36,8 +36,8 @@ bool getParam(const Params& p, const std::string& name, double& value);
 /**
  * @brief Apply a flat YAML file of `name: value` lines (ROS parameter file style, comments
  * allowed) on top of @p p. Values: numbers, true/false, and the enum names near_high, far_high,
- * three_point, least_squares. A `mode: paper|improved` line (anywhere) selects that preset as the base the
- * other keys apply to.
+ * three_point, least_squares, road_surface. A `mode: paper|improved` line (anywhere) selects
+ * that preset as the base the other keys apply to.
  * Keys that are not parameters (e.g. node settings such as queue_size) are ignored.
  * @param[in] path file to read.
  * @param[in,out] p parameters to update.

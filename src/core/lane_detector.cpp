@@ -92,7 +92,10 @@ void LaneDetector::reset() {
 Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,
                              PixelFormat format) {
   // A frame as a camera 1.5 m above a flat grey road sees it (no markers): every buffer, table
-  // and plan of detect() is made for this size, the memory touched once.
+  // and plan of detect() is made for this size, the memory touched once. A camera detect() would
+  // refuse is refused here, before anything is allocated.
+  if (size.width <= 0 || size.height <= 0) return Status::kEmptyImage;
+  if (!intrinsics.valid()) return Status::kInvalidIntrinsics;
   static const int kTypes[] = {CV_8UC3, CV_8UC3, CV_8UC4, CV_8UC4, CV_8UC1};
   Frame f;
   f.format = format;

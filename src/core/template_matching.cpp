@@ -78,8 +78,8 @@ constexpr float kInfF = std::numeric_limits<float>::infinity();
 inline void scorePixel(const ScoreRow& r, int x) {
   const int32_t S =
       static_cast<int32_t>((r.bottom[x + r.s] - r.bottom[x]) - (r.top[x + r.s] - r.top[x]));
-  const int32_t Q = static_cast<int32_t>((r.bottom_sq[x + r.s] - r.bottom_sq[x]) -
-                                         (r.top_sq[x + r.s] - r.top_sq[x]));
+  // Q reaches 65536 * 255^2 > 2^31 for 256-pixel templates on bright images: unsigned
+  const uint32_t Q = (r.bottom_sq[x + r.s] - r.bottom_sq[x]) - (r.top_sq[x + r.s] - r.top_sq[x]);
   const double sum = S, sum2 = Q;
   const double diff2 = sum2 - sum * sum * r.inv_area;
   const bool keep = diff2 > std::min(0.5, 10 * FLT_EPSILON * sum2);
@@ -191,7 +191,8 @@ int scoreRowT(const ScoreRow& r, int n) {
   const hn::Rebind<double, decltype(d32h)> dd;
   const int N = static_cast<int>(hn::Lanes(d32));
   const auto inv_area = hn::Set(dd, r.inv_area), eps = hn::Set(dd, 10 * FLT_EPSILON),
-             half = hn::Set(dd, 0.5), inf_d = hn::Set(dd, std::numeric_limits<double>::infinity());
+             half = hn::Set(dd, 0.5), inf_d = hn::Set(dd, std::numeric_limits<double>::infinity()),
+             two32 = hn::Set(dd, 4294967296.0), zero_d = hn::Zero(dd);
   const auto f_one = hn::Set(df, 1.f), f_zero = hn::Zero(df);
   auto ld = [&](const uint32_t* p) {
     return hn::BitCast(d32, hn::LoadU(hn::RebindToUnsigned<decltype(d32)>(), p));
@@ -212,7 +213,9 @@ int scoreRowT(const ScoreRow& r, int n) {
     hn::Vec<decltype(dfh)> d_f[2];
     hn::Vec<decltype(dd)> sum_d[2];
     for (int h = 0; h < 2; ++h) {
-      const auto sum = h ? upper(S) : lower(S), sum2 = h ? upper(Q) : lower(Q);
+      // Q is unsigned (up to 65536 * 255^2): lanes at or above 2^31 promote negative, add 2^32
+      const auto sum = h ? upper(S) : lower(S), q = h ? upper(Q) : lower(Q);
+      const auto sum2 = hn::Add(q, hn::IfThenElseZero(hn::Lt(q, zero_d), two32));
       sum_d[h] = sum;
       const auto diff2 = hn::Sub(sum2, hn::Mul(hn::Mul(sum, sum), inv_area));
       const auto keep = hn::Gt(diff2, hn::Min(half, hn::Mul(eps, sum2)));

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -162,5 +163,27 @@ TEST(Allocations, TheCounterSeesEveryAllocator) {
   EXPECT_GE(g_allocations.load(), 3);
 }
 
+
+// prepare() is called with whatever a camera_info says: a size or camera detect() would refuse
+// is refused before anything is allocated (a broken driver must not make the node allocate).
+TEST(Allocations, PrepareRefusesAnUnusableCameraWithoutAllocating) {
+  if (!RLD_COUNT_ALLOCATIONS) GTEST_SKIP() << "the sanitizer's allocator replaces the counting one";
+  LaneDetector det(Params::improved());
+  const Intrinsics good{266.37, 266.37, 320.0, 190.0};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  g_allocations = 0;
+  g_counting = true;
+  const Status empty = det.prepare(cv::Size(0, 380), good);
+  const Status negative = det.prepare(cv::Size(640, -1), good);
+  const Status zero_f = det.prepare(cv::Size(640, 380), Intrinsics{0.0, 266.37, 320.0, 190.0});
+  const Status nan_c = det.prepare(cv::Size(640, 380), Intrinsics{266.37, 266.37, nan, 190.0});
+  g_counting = false;
+  EXPECT_EQ(empty, Status::kEmptyImage);
+  EXPECT_EQ(negative, Status::kEmptyImage);
+  EXPECT_EQ(zero_f, Status::kInvalidIntrinsics);
+  EXPECT_EQ(nan_c, Status::kInvalidIntrinsics);
+  EXPECT_EQ(g_allocations.load(), 0) << "first allocation: " << g_first_size.load() << " bytes";
+  EXPECT_EQ(det.prepare(cv::Size(640, 380), good), Status::kOk);  // a usable camera still plans
+}
 }  // namespace
 }  // namespace rgbd_lane_detector

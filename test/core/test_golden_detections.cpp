@@ -5,8 +5,8 @@
 //   RLD_DETECTIONS_WRITE=FILE      write this machine's detections (best target) and pass;
 //   RLD_DETECTIONS_REFERENCE=FILE  compare every target of this machine with FILE;
 //   neither: skipped (a machine alone is covered by EveryTargetGivesTheSameBits).
-// Tolerances (docs/PERFORMANCE.md): counts, flags and kinds exact; pixels 1e-4 px; 3D points,
-// plane offset 1e-5 m; normals, angles 1e-6; scores and confidences 1e-5.
+// Tolerances (docs/PERFORMANCE.md): counts, flags and kinds exact; pixels 1e-4 px; 3D points
+// 1e-5 m; the plane (normal and offset), normals, angles 1e-6; scores and confidences 1e-5.
 #include <cmath>
 #include <cstdlib>
 #include <fstream>

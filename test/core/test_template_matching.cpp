@@ -6,6 +6,7 @@
 
 #include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/template_matching.h"
+#include "simd.h"
 #include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
@@ -166,5 +167,39 @@ TEST(NccMatcher, EqualsMatchTemplateForEverySlope) {
   }
 }
 
+
+// A window's sum of squares passes 2^31 on bright images from 182-pixel templates on (the
+// largest, 256, reaches 65536 * 255^2): every target must read it unsigned and score as
+// matchTemplate does, not call the window flat.
+TEST(NccMatcher, LargeTemplatesOnBrightImagesEqualMatchTemplateOnEveryTarget) {
+  const int size = 200;
+  cv::RNG rng(11);
+  cv::Mat img(300, 330, CV_8UC1);
+  rng.fill(img, cv::RNG::UNIFORM, 228, 241);  // bright asphalt in sunlight: 228..240
+  LineTemplate l, r;
+  makeLineTemplate(size, 40, 3 * M_PI / 4, l);
+  makeLineTemplate(size, 40, M_PI / 4, r);
+  // the left template's line drawn through (160, 140), brighter than the road around it
+  cv::Mat line(img.size(), CV_8UC1, cv::Scalar(0));
+  const cv::Point2d dir(std::cos(l.drawn_angle), std::sin(l.drawn_angle));  // v down
+  cv::line(line, cv::Point2d(160, 140) - 300 * dir, cv::Point2d(160, 140) + 300 * dir,
+           cv::Scalar(255), 40);
+  cv::max(img, line, img);
+  const cv::Rect all(0, 0, img.cols, img.rows);
+  cv::Mat ref;
+  matchTemplateReference(img, all, l, ref);
+  double hi;
+  cv::Point at;
+  cv::minMaxLoc(ref, nullptr, &hi, nullptr, &at);
+  ASSERT_GT(hi, 0.85);  // the scene is what it says: the line matches well, on the line
+  const cv::Point2d off = cv::Point2d(at) - cv::Point2d(160, 140);
+  EXPECT_LT(std::fabs(off.x * dir.y - off.y * dir.x), 3.0) << at;  // distance to the line
+  for (const simd::Target target : simd::availableTargets()) {
+    SCOPED_TRACE(simd::targetName(target));
+    simd::forceTarget(target);
+    expectMatchesReference(img, all, 3 * M_PI / 4, M_PI / 4, size, 40);
+  }
+  simd::forceTarget(simd::kBest);
+}
 }  // namespace
 }  // namespace rgbd_lane_detector

@@ -78,11 +78,14 @@ int main(int argc, char** argv) {
          &depths_list);
   cl.add("variant",
          "frame variant: as_is, mirrored (left-right), no_near_depth (no depth in the bottom 30% "
-         "of the rows) (repeatable; default all)",
+         "of the rows), half_resolution (half the width and height), underexposed (colour at "
+         "60%), overexposed (colour at 140%, saturating) (repeatable; default all)",
          &variants_list);
   cl.add("markdown", "write the table here", &markdown);
-  cl.add("csv", "write one line per frame, depth and mode here", &csv);
-  cl.add("images", "write the overlays (real_<dataset>_<frame>_<depth>_<mode>.png) here", &images);
+  cl.add("csv", "write one line per frame, depth, variant and mode here", &csv);
+  cl.add("images",
+         "write the overlays (real_<dataset>_<frame>_<depth>[_<variant>]_<mode>.jpg) here",
+         &images);
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
   if (parsed == tools::CommandLine::Parse::kError) return 2;

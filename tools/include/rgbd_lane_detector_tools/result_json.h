@@ -5,10 +5,10 @@
  * @code
  * {"frame": 12, "name": "000012", "stamp": 1.2, "status": "ok",
  *  "timings_ms": {"preprocess": .., ..., "total": ..},
- *  "plane": {"valid": true, "normal": [x, y, z], "distance": d, "rms": r},
+ *  "plane": {"valid": true, "normal": [x, y, z], "distance": d, "rms": r, "range": m},
  *  "left": {"found": true, "kind": "paint", "confidence": c, "peak_score": s, "angle": rad,
- *           "angle_valid": true, "pixels": [[u, v], ...], "points": [[x, y, z] | null, ...],
- *           "scores": [...]},
+ *           "angle_valid": true, "seed": [u, v], "valid_points": n,
+ *           "pixels": [[u, v], ...], "points": [[x, y, z] | null, ...], "scores": [...]},
  *  "right": {...},
  *  "score": {"outcome": "TP", "lane_required": true, "plane_ok": true, "angle_error_deg": ..,
  *            "offset_error": .., "left": {"truth": "paint", "outcome": "correct", "points": n,
