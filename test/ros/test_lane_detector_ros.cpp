@@ -63,15 +63,20 @@ TEST(LaneDetectorRos, RunsTheImprovedPresetByDefault) {
   const Params improved;
   int plane_fit = -1, gap_steps = -1, candidates = -1;
   bool lane_model = false, classify = false;
-  ASSERT_TRUE(waitFor([&] { return ros::param::get(g->detector + "/plane_fit", plane_fit); }));
+  // The node writes its parameters one setParam at a time while it starts (and the test may
+  // run meanwhile, e.g. on a loaded machine): wait until every one read here is on the server.
+  const std::string& d = g->detector;
+  ASSERT_TRUE(waitFor([&] {
+    return ros::param::get(d + "/plane_fit", plane_fit) &&
+           ros::param::get(d + "/gap_steps", gap_steps) &&
+           ros::param::get(d + "/boundary_candidates", candidates) &&
+           ros::param::get(d + "/lane_model", lane_model) &&
+           ros::param::get(d + "/classify_boundaries", classify);
+  })) << "the detector's parameters never all reached the parameter server";
   EXPECT_EQ(plane_fit, static_cast<int>(improved.plane_fit)) << "mode " << mode;
-  ASSERT_TRUE(ros::param::get(g->detector + "/gap_steps", gap_steps));
   EXPECT_EQ(gap_steps, improved.gap_steps) << "mode " << mode;
-  ASSERT_TRUE(ros::param::get(g->detector + "/boundary_candidates", candidates));
   EXPECT_EQ(candidates, improved.boundary_candidates) << "mode " << mode;
-  ASSERT_TRUE(ros::param::get(g->detector + "/lane_model", lane_model));
   EXPECT_TRUE(lane_model) << "mode " << mode;
-  ASSERT_TRUE(ros::param::get(g->detector + "/classify_boundaries", classify));
   EXPECT_TRUE(classify) << "mode " << mode;
 }
 
