@@ -70,6 +70,12 @@ template <class M>
 class Collector {
  public:
   using Ptr = boost::shared_ptr<const M>;
+  Collector() = default;
+  Collector(const Collector&) = delete;
+  Collector& operator=(const Collector&) = delete;
+  /// Unsubscribes first: shutdown() returns once no callback runs any more (roscpp removes the
+  /// subscription's callbacks under their calling lock), so none can touch msgs_ after it.
+  ~Collector() { sub_.shutdown(); }
   void subscribe(ros::NodeHandle& nh, const std::string& topic) {
     sub_ = nh.subscribe<M>(topic, 50, &Collector::callback, this);
   }
@@ -107,8 +113,8 @@ class Collector {
     }
     g_cv.notify_all();
   }
+  std::vector<Ptr> msgs_;  // before sub_: members are destroyed in reverse order
   ros::Subscriber sub_;
-  std::vector<Ptr> msgs_;
 };
 
 /// Wait until done() holds, calling tick() every kTickPeriod (e.g. to publish a frame).
