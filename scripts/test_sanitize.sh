@@ -23,8 +23,19 @@ build_ws() {
   shift 3
   "$ROOT/scripts/make_workspace.sh" "$ws" > /dev/null
   echo "sanitize: building $(basename "$ws") ($*; log: ${log#"$ROOT"/})"
-  (cd "$ws" && catkin_make $COMMON -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags" \
-    -DCMAKE_SHARED_LINKER_FLAGS="$flags" "$@" -j"$JOBS") > "$log" 2>&1 || { tail -n 40 "$log"; exit 1; }
+  local args=($COMMON -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="$flags"
+    -DCMAKE_SHARED_LINKER_FLAGS="$flags")
+  # The test targets run through build/catkin_generated/env_cached.sh, the environment catkin
+  # recorded when it configured. A first configure records it before the workspace has its
+  # Python messages (PYTHONPATH=''), and rostests with Python nodes (soak_short) could not
+  # import them: configure once, then again with the workspace sourced, then build.
+  (cd "$ws" && { [ -f devel/setup.bash ] || catkin_make "${args[@]}" cmake_check_build_system; } &&
+    set +u && source devel/setup.bash && set -u &&
+    catkin_make --force-cmake "${args[@]}" "$@" -j"$JOBS") > "$log" 2>&1 || { tail -n 40 "$log"; exit 1; }
+  if grep -q "^export PYTHONPATH=''" "$ws/build/catkin_generated/setup_cached.sh"; then
+    echo "sanitize: $ws/build/catkin_generated/setup_cached.sh has an empty PYTHONPATH"
+    exit 1
+  fi
 }
 
 # Run catkin test targets in a workspace; prints catkin_test_results' summary, returns its status.
