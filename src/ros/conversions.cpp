@@ -191,6 +191,13 @@ Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
   return K;
 }
 
+bool sameCamera(const Intrinsics& a, const Intrinsics& b, double tolerance) {
+  if (!a.valid() || !b.valid()) return false;
+  const double limit = tolerance * a.fx;
+  return std::abs(a.fx - b.fx) <= limit && std::abs(a.fy - b.fy) <= limit &&
+         std::abs(a.cx - b.cx) <= limit && std::abs(a.cy - b.cy) <= limit;
+}
+
 sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, int width, int height,
                                                  const std_msgs::Header& header) {
   sensor_msgs::CameraInfo info;

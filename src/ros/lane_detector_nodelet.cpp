@@ -401,20 +401,22 @@ bool LaneDetectorNodelet::outputTransform(const std_msgs::Header& header, Eigen:
 }
 
 void LaneDetectorNodelet::prepareDetector(const CameraInfo& info) {
-  // New camera (start, resolution or intrinsics change): allocate and plan the detector now,
-  // so that the first frame costs about a steady-state one.
+  // New camera (start, resolution or calibration change): allocate and plan the detector now,
+  // so that the first frame costs about a steady-state one. A driver re-estimating its
+  // calibration (sameCamera()) is the same camera: its frames keep the prepared intrinsics
+  // (processFrame()), so the detector neither re-plans nor loses its tracks on every message.
   const Intrinsics K = conv::intrinsicsFromCameraInfo(info);
   const cv::Size size(static_cast<int>(info.width), static_cast<int>(info.height));
-  if (size == prepared_size_ && K.fx == prepared_K_.fx && K.fy == prepared_K_.fy &&
-      K.cx == prepared_K_.cx && K.cy == prepared_K_.cy)
-    return;
+  if (size == prepared_size_ && conv::sameCamera(prepared_K_, K)) return;
   prepared_size_ = size;
   prepared_K_ = K;
   const Clock::time_point start = Clock::now();
   const Status status = detector_.prepare(size, K);
   if (status != Status::kOk) return;  // the frames will be dropped, naming the problem
-  NODELET_INFO("Detector prepared for %dx%d frames in %.1f ms", size.width, size.height,
-               std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  NODELET_INFO("Detector prepared for %dx%d frames in %.1f ms (fx %.3f, fy %.3f, cx %.3f, cy %.3f)",
+               size.width, size.height,
+               std::chrono::duration<double, std::milli>(Clock::now() - start).count(), K.fx, K.fy,
+               K.cx, K.cy);
   first_frame_pending_ = true;
 }
 
@@ -440,6 +442,8 @@ FrameOutcome LaneDetectorNodelet::processFrame(const Image& colour, const Image&
   Frame frame;
   if (const char* problem = conv::frameFromMsgs(colour, depth, info, frame, depth_swap_))
     return dropFrame(FrameOutcome::kBadMessage, problem, detail, colour, depth);
+  if (frame.colour.size() == prepared_size_ && conv::sameCamera(prepared_K_, frame.intrinsics))
+    frame.intrinsics = prepared_K_;  // calibration jitter (prepareDetector())
   const Status valid = detector_.validate(frame);
   if (valid != Status::kOk)
     return dropFrame(FrameOutcome::kInvalidFrame, statusMessage(valid), detail, colour, depth);

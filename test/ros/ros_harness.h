@@ -310,11 +310,12 @@ class Harness {
     return true;
   }
 
-  /// Number of /rosout lines of @p level containing @p a.
-  size_t logCount(uint8_t level, const std::string& a) const {
+  /// Number of /rosout lines of @p level containing @p a (and @p b).
+  size_t logCount(uint8_t level, const std::string& a, const std::string& b = "") const {
     size_t n = 0;
     rosout.find([&](const rosgraph_msgs::Log& l) {
-      n += l.level == level && l.msg.find(a) != std::string::npos;
+      n += l.level == level && l.msg.find(a) != std::string::npos &&
+           l.msg.find(b) != std::string::npos;
       return false;
     });
     return n;

@@ -182,6 +182,24 @@ TEST(Conversions, DisparityImageReadInPlaceWithItsModel) {
             std::string::npos);
 }
 
+TEST(Conversions, SameCameraWithinHalfAPixelAtFiveHundredPixels) {
+  const Intrinsics K{500, 510, 320, 240};
+  EXPECT_TRUE(conv::sameCamera(K, K));
+  // each of fx, fy, cx, cy: 0.5 px (1e-3 of fx) is the same camera, 0.6 px another
+  for (int i = 0; i < 4; ++i) {
+    for (const double d : {0.5, -0.5, 0.6, -0.6}) {
+      Intrinsics J = K;
+      double* v[] = {&J.fx, &J.fy, &J.cx, &J.cy};
+      *v[i] += d;
+      EXPECT_EQ(conv::sameCamera(K, J), std::abs(d) <= 0.5) << "parameter " << i << " by " << d;
+    }
+  }
+  EXPECT_TRUE(conv::sameCamera(K, Intrinsics{502, 510, 320, 240}, 5e-3));
+  EXPECT_FALSE(conv::sameCamera(K, Intrinsics{250, 255, 160, 120}));  // half resolution
+  EXPECT_FALSE(conv::sameCamera(Intrinsics{}, Intrinsics{}));         // invalid: never the same
+  EXPECT_FALSE(conv::sameCamera(K, Intrinsics{500, 510, std::nan(""), 240}));
+}
+
 TEST(Conversions, IntrinsicsFromProjectionElseK) {
   sensor_msgs::CameraInfo info;
   info.K = {500, 0, 320, 0, 510, 240, 0, 0, 1};

@@ -230,6 +230,51 @@ TEST(Lifecycle, ResolutionChangeReplansEveryBuffer) {
                 s.second ? half.height : g->scene.height);
 }
 
+// The inputs of `in` from a camera with the intrinsics K (the images unchanged).
+InputSet withIntrinsics(const InputSet& in, const Intrinsics& K) {
+  InputSet out = in;
+  out.info.K[0] = out.info.P[0] = K.fx;
+  out.info.K[4] = out.info.P[5] = K.fy;
+  out.info.K[2] = out.info.P[2] = K.cx;
+  out.info.K[5] = out.info.P[6] = K.cy;
+  return out;
+}
+
+// The "Detector prepared" lines naming a camera with the focal length fx.
+size_t preparedLines(double fx) {
+  char text[64];
+  std::snprintf(text, sizeof text, "(fx %.3f,", fx);
+  return g->logCount(rosgraph_msgs::Log::INFO, "Detector prepared", text);
+}
+
+TEST(Lifecycle, CalibrationJitterKeepsThePreparedDetector) {
+  // A driver that refines its calibration while it runs moves K by a fraction of a pixel from
+  // message to message: the same camera, the detector prepared once (prepare() would re-plan
+  // every buffer and reset the tracks on each message). A new calibration prepares it again.
+  Outputs out;
+  out.plane.subscribe(g->nh, "lane_plane");
+  ASSERT_TRUE(validPlaneFrom(out, ros::Time(0), &g->good));
+  const Intrinsics K = g->scene.K;
+  const double d = 0.2e-3 * K.fx;  // well within sameCamera()'s 1e-3 fx
+  const Intrinsics jitter[] = {{K.fx + d, K.fy, K.cx, K.cy},
+                               {K.fx - d, K.fy - d, K.cx + d, K.cy},
+                               {K.fx + 2 * d, K.fy + d, K.cx - d, K.cy + d}};
+  for (const Intrinsics& J : jitter) {
+    const InputSet in = withIntrinsics(g->good, J);
+    EXPECT_TRUE(validPlaneFrom(out, g->nextStamp(), &in)) << "fx " << J.fx;
+  }
+  // recalibrated: 2% longer focal length, prepared once. /rosout keeps one node's lines in order,
+  // so once that line is in, any line of the jittered calibrations would be in too.
+  const Intrinsics recalibrated{K.fx * 1.02, K.fy * 1.02, K.cx, K.cy};
+  const InputSet in = withIntrinsics(g->good, recalibrated);
+  EXPECT_TRUE(validPlaneFrom(out, g->nextStamp(), &in));
+  ASSERT_TRUE(waitFor([&] { return preparedLines(recalibrated.fx) > 0; }))
+      << "no 'Detector prepared' line for the new calibration";
+  EXPECT_EQ(preparedLines(recalibrated.fx), 1u);
+  for (const Intrinsics& J : jitter)
+    EXPECT_EQ(preparedLines(J.fx), 0u) << "prepared again for a jitter of fx to " << J.fx;
+}
+
 TEST(Lifecycle, CameraDriverRestartResumes) {
   Outputs out;
   out.plane.subscribe(g->nh, "lane_plane");

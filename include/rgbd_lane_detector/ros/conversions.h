@@ -76,6 +76,13 @@ const char* depthFromMsg(const sensor_msgs::Image& msg, cv::Mat& depth, double& 
 Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info);
 
 /**
+ * @brief Whether @p b is the calibration @p a within the re-estimation noise of a driver that
+ * refines it while it runs: fx, fy, cx and cy each within @p tolerance times a's fx of a's
+ * (the default 1e-3 is half a pixel at a 500 px focal length). Invalid intrinsics match nothing.
+ */
+bool sameCamera(const Intrinsics& a, const Intrinsics& b, double tolerance = 1e-3);
+
+/**
  * @brief camera_info of an undistorted pinhole camera (the inverse of
  * intrinsicsFromCameraInfo()): K and P from @p K, R identity, plumb_bob with zero distortion.
  */
