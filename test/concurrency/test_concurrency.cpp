@@ -102,7 +102,22 @@ class Concurrency : public ::testing::Test {
         loader_.load(kDetector, "rgbd_lane_detector/LaneDetectorNodelet", remappings, argv));
   }
 
-  void TearDown() override { loader_.unload(kDetector); }
+  void TearDown() override {
+    loader_.unload(kDetector);
+    // unload() returns while a callback of the nodelet may still be running and holding it: the
+    // nodelet is then destroyed on that callback's thread, which disconnects its subscriptions
+    // from this fixture's publishers. Destroy the publishers only after that: each count is read
+    // under the mutex the disconnection takes.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while ((pub_colour_.getNumSubscribers() > 0 || pub_depth_.getNumSubscribers() > 0 ||
+            pub_info_.getNumSubscribers() > 0) &&
+           std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    EXPECT_EQ(pub_colour_.getNumSubscribers() + pub_depth_.getNumSubscribers() +
+                  pub_info_.getNumSubscribers(),
+              0u)
+        << "the unloaded nodelet still subscribes the inputs";
+  }
 
   void publishFrame() {
     const ros::Time stamp = ros::Time::now();
