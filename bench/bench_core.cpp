@@ -105,8 +105,9 @@ void BM_Detect(benchmark::State& state) {
 }
 
 // Time detect() with @p params over the frames of @p d, after one warm-up pass.
-void timeDetect(benchmark::State& state, Data& d, const Params& params) {
+void timeDetect(benchmark::State& state, Data& d, const Params& params, bool full_g = false) {
   LaneDetector det(params);
+  det.setFullGeometricMap(full_g);
   Result r;
   for (int i = 0; i < kFrames; ++i) det.detect(d.frames[i].frame(), r);  // warm-up
   int i = 0;
@@ -152,11 +153,18 @@ void BM_DetectImproved(benchmark::State& state) {
   timeDetect(state, d, Params::improved());
 }
 
-// detect() with the second core (runPair: normals + G next to matching), wall time.
+// detect() with G at every pixel (LaneDetector::setFullGeometricMap: what the nodelet does while
+// response/geometric has a subscriber), one thread.
+void BM_DetectFullG(benchmark::State& state) {
+  Data& d = data(static_cast<int>(state.range(0)));
+  timeDetect(state, d, d.params, true);
+}
+
+// The same with the second core (runPair: normals + G next to matching), wall time.
 void BM_Detect2(benchmark::State& state) {
   Data& d = data(static_cast<int>(state.range(0)));
   cv::setNumThreads(2);
-  timeDetect(state, d, d.params);
+  timeDetect(state, d, d.params, true);
   cv::setNumThreads(1);
 }
 
@@ -300,6 +308,7 @@ BENCHMARK(BM_Detect)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_FirstFrame, Unprepared, false)->Apply(sizes)->UseManualTime();
 BENCHMARK_CAPTURE(BM_FirstFrame, Prepared, true)->Apply(sizes)->UseManualTime();
 BENCHMARK(BM_DetectImproved)->Apply(sizes);
+BENCHMARK(BM_DetectFullG)->Apply(sizes);
 BENCHMARK(BM_Detect2)->Apply(sizes)->UseRealTime();
 BENCHMARK(BM_OpenCV_Pipeline)->Apply(sizes);
 BENCHMARK(BM_Stage_HalfBinary)->Apply(sizes);
@@ -351,6 +360,8 @@ void reportEquality(int width) {
   double max_m = 0.0;
   // 2. detect() against detect() on the reference stages, frame by frame from the same start
   LaneDetector fast(d.params), ref(d.params);
+  fast.setFullGeometricMap(true);  // G compared at every pixel
+  ref.setFullGeometricMap(true);
   Result rf, rr;
   double max_r = 0.0, max_g = 0.0;
   int identical = 0, g_beyond = 0;

@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
       halfBinary(f.colour, f.format, params.tau_c, rows, hb);
     } else if (stage == "points") {
       depthToPoints(f.depth, dec, f.intrinsics, rows, pts);
-    } else if (stage == "normals") {  // as detect() runs it: G from the normals
+    } else if (stage == "normals") {  // the whole map (detect() with setFullGeometricMap)
       fals.computeGeometric(pts, rows, params, G);
     } else if (stage == "normals_only") {
       fals.compute(pts, rows, normals);

@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -65,14 +66,30 @@ class FalsNormals {
   void computeGeometric(const cv::Mat& points, const cv::Range& rows, const Params& p, cv::Mat& G,
                         cv::Mat* normals = nullptr);
 
+  /**
+   * @brief G of the rows @p rows at the pixels of a mask only (where G enters R, fusionMask()),
+   * 0 at the others: the windows are summed and solved only in the 16-column units that hold
+   * mask pixels. Where the mask is set G has the same bits as the overload without a mask.
+   * @param[in] points CV_32FC3 organised points of the configured size.
+   * @param[in] rows rows to compute; other rows of @p G are 0 when G is (re)allocated.
+   * @param[in] p alpha, beta, T_D, depth term and up axis are read.
+   * @param[in] mask CV_8UC1 of the configured size: G where nonzero.
+   * @param[out] G CV_32FC1.
+   */
+  void computeGeometric(const cv::Mat& points, const cv::Range& rows, const Params& p,
+                        const cv::Mat& mask, cv::Mat& G);
+
   int window() const { return window_; }
 
  private:
   struct Output;
+  /// The output of computeGeometric() (G allocated and zeroed when new, constants of @p p).
+  Output geometricOutput(const Params& p, cv::Mat& G) const;
   void run(const cv::Mat& points, const cv::Range& rows, const Output& out);
   void ensureTable(const cv::Range& rows);
-  void prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, float* z,
-                  uint64_t* bad) const;
+  /// Prepared row y over the columns of @p units (nullptr: every column; see run()).
+  void prepareRow(const cv::Mat& points, int y, const uint64_t* units, float* kv, float* t,
+                  float* c, float* z, uint64_t* bad) const;
   bool solveWindow(int x, int y, const float* const* kv, const float* const* t,
                    const float* const* c, float n[3]);
 
@@ -96,6 +113,10 @@ class FalsNormals {
   static constexpr int kColumnSums = 8;
   std::vector<double> column_;   ///< exact path: per column, sums over the window's rows
   std::vector<int> column_row_;  ///< row whose sums column_ holds, per column
+  // with a mask (run()): bits of 16-column units per output row
+  std::vector<uint64_t> solve_units_;  ///< units holding mask pixels
+  std::vector<uint64_t> read_units_;   ///< and their neighbours, whose vertical sums they read
+  std::vector<uint64_t> prep_units_;   ///< units of the row being prepared
 };
 
 /**

@@ -27,9 +27,10 @@ namespace rgbd_lane_detector {
  *
  * detect() runs the stages in order: pre-processing (half-binary image), depth to points, the
  * road surface from depth (improved mode; extended toward the camera where depth is missing),
- * normals with the geometric map G and template matching, the response map R, boundary
- * candidates (seeds, PCA angle, sliding-box tracing) per side, their classification (paint, road
- * edge, no boundary), and the lane fit (LaneFitter), paint measurements and the lane model.
+ * template matching, normals with the geometric map G where it enters R, the response map R,
+ * boundary candidates (seeds, PCA angle, sliding-box tracing) per side, their classification
+ * (paint, road edge, no boundary), and the lane fit (LaneFitter), paint measurements and the lane
+ * model.
  * Carries state between frames: the PCA-refined template angles and, with the temporal
  * options, the previous plane and the lane model. Call reset() when the stream restarts
  * (rosbag loop, seek).
@@ -76,6 +77,17 @@ class LaneDetector {
    */
   Status detect(const Frame& frame, Result& result);
 
+  /**
+   * @brief Whether Result::geometric holds G at every pixel of the searched rows (for the
+   * response/geometric image), or, by default, only where G enters R (M >= tau_G in any match
+   * map, fusionMask()) and 0 elsewhere. The default computes the normals only there, which
+   * saves most of the normals stage; R and the detections are the same either way. The full
+   * map is computed next to matching on two cores when OpenCV may use two threads (runPair()).
+   * Applies from the next detect().
+   */
+  void setFullGeometricMap(bool full) { full_geometric_ = full; }
+  bool fullGeometricMap() const { return full_geometric_; }
+
   /// Check a frame without processing it.
   Status validate(const Frame& frame) const;
 
@@ -113,8 +125,6 @@ class LaneDetector {
 
   void resampleColour(const Frame& frame);
   void applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat& right);
-  /// acquisition_angle_deg: match the steeper templates for the sides without a tracked line.
-  void computeAcquisitionResponses();
   void updateTemplates(const Result& result);
 
   Params params_;
@@ -142,6 +152,8 @@ class LaneDetector {
   cv::Mat road_filled_;  ///< 255 where points_ holds the road plane, not depth (fillFromRoadPlane())
   bool road_filled_valid_ = false;  ///< road_filled_ belongs to this frame
   cv::Mat geometric_;
+  bool full_geometric_ = false;  ///< setFullGeometricMap()
+  cv::Mat fusion_mask_;          ///< where G enters R (fusionMask())
   cv::Mat response_left_, response_right_;
   StageTimings timings_;
 

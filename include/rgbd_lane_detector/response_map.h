@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <initializer_list>
 
 #include <opencv2/core.hpp>
 
@@ -52,6 +53,20 @@ void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p
  */
 void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,
                   cv::Mat& R);
+
+/// The most match maps fusionMask() takes (both sides, and both acquisition templates).
+constexpr int kMaxFusedMaps = 4;
+
+/**
+ * @brief Where G enters R (Eq. 3, fusedValue()): 255 where any of the match maps M is at least
+ * tau_g, 0 elsewhere, over some rows. FalsNormals computes G only there.
+ * @param[in] maps 1 to kMaxFusedMaps CV_32FC1 maps of one size.
+ * @param[in] tau_g tau_G.
+ * @param[in] rows rows to compute; other rows of @p mask are 0 when it is (re)allocated.
+ * @param[out] mask CV_8UC1 of the maps' size.
+ */
+void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const cv::Range& rows,
+                cv::Mat& mask);
 
 /**
  * @brief The maximum of a CV_32FC1 map and its first position in row-major order: what

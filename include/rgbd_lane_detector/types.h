@@ -169,9 +169,9 @@ enum OuterBoundary : int { kNextLeft = 0, kNextRight = 1, kRoadEdgeLeft = 2, kRo
 struct StageTimings {
   double preprocess = 0.0;   ///< resampling and half-binary image
   double points = 0.0;       ///< depth to organised 3D points
-  double normals = 0.0;      ///< FALS normals
-  double matching = 0.0;     ///< NCC with both templates
-  double response = 0.0;     ///< G and the fused R maps
+  double normals = 0.0;      ///< FALS normals and G (and where G enters R, fusionMask())
+  double matching = 0.0;     ///< NCC with both templates (and the acquisition templates)
+  double response = 0.0;     ///< plane gate and the fused R maps
   double road = 0.0;         ///< road surface from depth (improved mode)
   double pca = 0.0;          ///< seeds and template angle refinement
   double tracing = 0.0;      ///< sliding-box tracing of every candidate line
@@ -192,7 +192,9 @@ struct Result {
   Status status = Status::kOk;
   cv::Mat response_left;    ///< R of the left ("/") template, CV_32FC1
   cv::Mat response_right;   ///< R of the right ("\") template, CV_32FC1
-  cv::Mat geometric;        ///< G, CV_32FC1
+  /// G, CV_32FC1: where it enters R (M >= tau_G) and 0 elsewhere, or everywhere with
+  /// LaneDetector::setFullGeometricMap(true)
+  cv::Mat geometric;
   cv::Mat half_binary;      ///< half-binary grey image, CV_8UC1
   cv::Rect roi;             ///< searched rows at the processing resolution
   double scale = 1.0;       ///< processing resolution / input resolution

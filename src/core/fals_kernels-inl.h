@@ -95,11 +95,12 @@ inline bool anyBlock(const uint64_t* bits, int x) {
   return anyBlockIn(bits, x, x + V::N);
 }
 
-// Prepared row (kv, t, c and z itself); bit b of bad: block b has invalid pixels.
-void prepare(const float* p, const float* k, int n, float* kv, float* t, float* c, float* zs,
-             uint64_t* bad, int& done) {
+// Prepared row (kv, t, c and z itself) over the columns [x0, n) of the row's arrays; bit b of
+// bad: block b has invalid pixels.
+void prepare(const float* p, const float* k, int x0, int n, float* kv, float* t, float* c,
+             float* zs, uint64_t* bad, int& done) {
   const VT zero = V::zero(), inf = V::set1(kInf), one = V::set1(1.f);
-  int x = 0;
+  int x = x0;
   for (; x + V::N <= n; x += V::N) {
     const VT z = V::loadZ(p + 3 * x), kk = V::load(k + x);
     V::store(zs + x, z);
@@ -115,13 +116,14 @@ void prepare(const float* p, const float* k, int n, float* kv, float* t, float* 
   done = x;
 }
 
-// Vertical sums of V::N columns: rows[H + d] holds the prepared row at offset d (planes kv, t, c
-// at 0, W, 2 W). The kv and c moments are only needed near missing pixels (bits of holes).
+// Vertical sums of the columns [x0, x1), V::N at a time: rows[H + d] holds the prepared row at
+// offset d (planes kv, t, c at 0, W, 2 W). The kv and c moments are only needed near missing
+// pixels (bits of holes).
 template <int H>
-void vertical(const float* const* rows, int W, const uint64_t* holes, float* const* out,
-              int& done) {
-  int x = 0;
-  for (; x + V::N <= W; x += V::N) {
+void vertical(const float* const* rows, int W, int x0, int x1, const uint64_t* holes,
+              float* const* out, int& done) {
+  int x = x0;
+  for (; x + V::N <= x1; x += V::N) {
     VT w0, w1, n, n1, n2;
     momentsRowsV<H>(rows, W + x, w0, w1);
     V::store(out[kW0] + x, w0);
@@ -148,16 +150,16 @@ void vertical(const float* const* rows, int W, const uint64_t* holes, float* con
   done = x;
 }
 
-// Horizontal sums, solve and G of V::N pixels per step. Bits of holes: missing pixels within
-// reach of the block's windows. Windows without missing pixels use the precomputed adj(Q) (table
-// planes at table[j] + x), the others solvePartial(), whose ill-conditioned columns are appended
-// to `slow` for the exact double path (their G is written there). Normals (rarely wanted) are
-// finished by the scalar code from the same n'.
+// Horizontal sums, solve and G of the columns [x0, n), V::N pixels per step. Bits of holes: missing
+// pixels within reach of the block's windows. Windows without missing pixels use the precomputed
+// adj(Q) (table planes at table[j] + x), the others solvePartial(), whose ill-conditioned columns
+// are appended to `slow` for the exact double path (their G is written there). Normals (rarely
+// wanted) are finished by the scalar code from the same n'.
 template <int H>
-void horizontal(const float* const* vert, const float* const* table, int n, const float* ncols,
-                const float* ax, const RowConst& rc, const float* prow, const float* zrow,
-                float* nrow, float* grow, const uint64_t* holes, int* slow, int& n_slow,
-                int& done) {
+void horizontal(const float* const* vert, const float* const* table, int x0, int n,
+                const float* ncols, const float* ax, const RowConst& rc, const float* prow,
+                const float* zrow, float* nrow, float* grow, const uint64_t* holes, int* slow,
+                int& n_slow, int& done) {
   const VT zero = V::zero(), one = V::set1(1.f), three = V::set1(3.f);
   const VT inf = V::set1(kInf), ninf = V::set1(-kInf);
   const VT fxs = V::set1(rc.fxs), fys = V::set1(rc.fys), ay = V::set1(rc.ay),
@@ -165,7 +167,7 @@ void horizontal(const float* const* vert, const float* const* table, int n, cons
   const VT u0 = V::set1(rc.up[0]), u1 = V::set1(rc.up[1]), u2 = V::set1(rc.up[2]);
   const VT alpha = V::set1(rc.alpha), beta = V::set1(rc.beta), td = V::set1(rc.td),
            inv_td = V::set1(rc.inv_td), row_term = V::set1(rc.row_term);
-  int x = 0;
+  int x = x0;
   for (; x + V::N <= n; x += V::N) {
     VT T0, Tu, Tv, N = zero, unused;
     momentsV<H>(vert[kW0] + x, 1, T0, Tu);
@@ -246,29 +248,32 @@ void horizontal(const float* const* vert, const float* const* table, int n, cons
 }
 
 // Exported entry points (template arguments are not dispatched): the window half-size h is 1, 2
-// or 3; another h does nothing (done = 0).
-void falsPrepare(const float* p, const float* k, int n, float* kv, float* t, float* c, float* zs,
-                 uint64_t* bad, int& done) {
-  prepare(p, k, n, kv, t, c, zs, bad, done);
+// or 3; another h does nothing (done = x0). Columns are absolute: a range [x0, x1) of the row.
+void falsPrepare(const float* p, const float* k, int x0, int x1, float* kv, float* t, float* c,
+                 float* zs, uint64_t* bad, int& done) {
+  prepare(p, k, x0, x1, kv, t, c, zs, bad, done);
 }
 
-void falsVertical(int h, const float* const* rows, int W, const uint64_t* holes, float* const* out,
-                  int& done) {
-  done = 0;
-  if (h == 1) vertical<1>(rows, W, holes, out, done);
-  if (h == 2) vertical<2>(rows, W, holes, out, done);
-  if (h == 3) vertical<3>(rows, W, holes, out, done);
+void falsVertical(int h, const float* const* rows, int W, int x0, int x1, const uint64_t* holes,
+                  float* const* out, int& done) {
+  done = x0;
+  if (h == 1) vertical<1>(rows, W, x0, x1, holes, out, done);
+  if (h == 2) vertical<2>(rows, W, x0, x1, holes, out, done);
+  if (h == 3) vertical<3>(rows, W, x0, x1, holes, out, done);
 }
 
-void falsHorizontal(int h, const float* const* vert, const float* const* table, int n,
+void falsHorizontal(int h, const float* const* vert, const float* const* table, int x0, int x1,
                     const float* ncols, const float* ax, const RowConst& rc, const float* prow,
                     const float* zrow, float* nrow, float* grow, const uint64_t* holes, int* slow,
                     int& n_slow, int& done) {
-  done = 0;
+  done = x0;
   if (h == 1)
-    horizontal<1>(vert, table, n, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow, done);
+    horizontal<1>(vert, table, x0, x1, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow,
+                  done);
   if (h == 2)
-    horizontal<2>(vert, table, n, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow, done);
+    horizontal<2>(vert, table, x0, x1, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow,
+                  done);
   if (h == 3)
-    horizontal<3>(vert, table, n, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow, done);
+    horizontal<3>(vert, table, x0, x1, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow,
+                  done);
 }

@@ -167,17 +167,18 @@ RLD_KERNELS_END
 namespace rgbd_lane_detector {
 namespace {
 // The scalar target: no column done by a vector (the loops of FalsNormals do them all).
-void falsPrepareScalar(const float*, const float*, int, float*, float*, float*, float*, uint64_t*,
-                       int& done) {
-  done = 0;
+void falsPrepareScalar(const float*, const float*, int x0, int, float*, float*, float*, float*,
+                       uint64_t*, int& done) {
+  done = x0;
 }
-void falsVerticalScalar(int, const float* const*, int, const uint64_t*, float* const*, int& done) {
-  done = 0;
+void falsVerticalScalar(int, const float* const*, int, int x0, int, const uint64_t*, float* const*,
+                        int& done) {
+  done = x0;
 }
-void falsHorizontalScalar(int, const float* const*, const float* const*, int, const float*,
+void falsHorizontalScalar(int, const float* const*, const float* const*, int x0, int, const float*,
                           const float*, const RowConst&, const float*, const float*, float*, float*,
                           const uint64_t*, int*, int&, int& done) {
-  done = 0;
+  done = x0;
 }
 #ifdef RLD_HAVE_HWY
 HWY_EXPORT(falsPrepare);
@@ -189,8 +190,90 @@ HWY_EXPORT(falsHorizontal);
 struct FalsNormals::Output {
   cv::Mat* normals = nullptr;
   cv::Mat* G = nullptr;
+  const cv::Mat* mask = nullptr;  ///< G only where nonzero (no normals then)
   RowConst base;  ///< G constants (row fields are filled per row)
 };
+
+namespace {
+
+/// With a mask, columns are chosen in units of 16 (a whole number of vectors on every target):
+/// bit u of a row's unit set stands for the columns [16 u, 16 u + 16).
+constexpr int kUnit = 16;
+
+// Call fn(x0, x1) for each run of consecutive units in the set (nullptr: one run of every
+// column), as the columns [x0, x1) clipped to the width W. Bits of units beyond W must be 0.
+template <typename F>
+void forEachRun(const uint64_t* units, int W, F&& fn) {
+  if (!units) {
+    fn(0, W);
+    return;
+  }
+  const int n = (W + kUnit - 1) / kUnit;
+  int u = 0;
+  while (u < n) {
+    const uint64_t rest = units[u / 64] >> (u % 64);
+    if (rest == 0) {
+      u = (u / 64 + 1) * 64;
+      continue;
+    }
+    u += __builtin_ctzll(rest);
+    int e = u;  // the first unit after the run
+    while (e < n) {
+      const int s = e % 64;
+      const uint64_t word = units[e / 64] >> s;  // zeros shifted in at the top end the run there
+      const int ones = word == ~uint64_t{0} ? 64 : __builtin_ctzll(~word);
+      e += ones;
+      if (ones < 64 - s) break;
+    }
+    e = std::min(e, n);
+    fn(u * kUnit, std::min(W, e * kUnit));
+    u = e;
+  }
+}
+
+// The units of a mask row with any nonzero pixel.
+void unitsOfRow(const uint8_t* m, int W, uint64_t* units) {
+  const int n = (W + kUnit - 1) / kUnit;
+  std::fill(units, units + (n + 63) / 64, uint64_t{0});
+  for (int u = 0; u < n; ++u) {
+    const int x0 = u * kUnit;
+    bool any = false;
+    if (x0 + kUnit <= W) {
+      uint64_t a, b;
+      std::memcpy(&a, m + x0, 8);
+      std::memcpy(&b, m + x0 + 8, 8);
+      any = (a | b) != 0;
+    } else {
+      for (int x = x0; x < W; ++x) any = any || m[x] != 0;
+    }
+    if (any) units[u / 64] |= uint64_t{1} << (u % 64);
+  }
+}
+
+// dst = src with each unit's neighbours (one unit each side), within n units.
+void dilateUnits(const uint64_t* src, int n, uint64_t* dst) {
+  const int words = (n + 63) / 64;
+  for (int j = 0; j < words; ++j) {
+    const uint64_t left = (src[j] << 1) | (j > 0 ? src[j - 1] >> 63 : 0);
+    const uint64_t right = (src[j] >> 1) | (j + 1 < words ? src[j + 1] << 63 : 0);
+    dst[j] = src[j] | left | right;
+  }
+  if (n % 64) dst[words - 1] &= (uint64_t{1} << (n % 64)) - 1;
+}
+
+// G is 0 outside the mask: between the solved units, and at their pixels outside it.
+void maskRow(const uint8_t* m, const uint64_t* solved, int W, float* g) {
+  int end = 0;
+  forEachRun(solved, W, [&](int x0, int x1) {
+    std::fill(g + end, g + x0, 0.f);
+    for (int x = x0; x < x1; ++x)
+      if (!m[x]) g[x] = 0.f;
+    end = x1;
+  });
+  std::fill(g + end, g + W, 0.f);
+}
+
+}  // namespace
 
 void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int window,
                             const cv::Mat& col_map, const cv::Mat& row_map) {
@@ -292,8 +375,8 @@ void FalsNormals::ensureTable(const cv::Range& rows) {
   }
 }
 
-void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, float* c, float* z,
-                             uint64_t* bad) const {
+void FalsNormals::prepareRow(const cv::Mat& points, int y, const uint64_t* units, float* kv,
+                             float* t, float* c, float* z, uint64_t* bad) const {
   const int W = size_.width;
   std::fill(bad, bad + (W + 511) / 512, uint64_t{0});
   if (y < 0 || y >= size_.height) {  // outside the image: clipped windows, not holes
@@ -305,16 +388,18 @@ void FalsNormals::prepareRow(const cv::Mat& points, int y, float* kv, float* t, 
   }
   const float* p = points.ptr<float>(y);
   const float* k = k_.ptr<float>(y);
-  int x = 0;
-  RLD_DISPATCH(falsPrepare)(p, k, W, kv, t, c, z, bad, x);
-  for (; x < W; ++x) {
-    const float d = z[x] = p[3 * x + 2];
-    const bool valid = d > 0.f && d < kInf;
-    kv[x] = valid ? k[x] : 0.f;
-    t[x] = valid ? k[x] / d : 0.f;
-    c[x] = valid ? 1.f : 0.f;
-    if (!valid) bad[x / 512] |= uint64_t{1} << (x / 8 % 64);
-  }
+  forEachRun(units, W, [&](int x0, int x1) {
+    int x = x0;
+    RLD_DISPATCH(falsPrepare)(p, k, x0, x1, kv, t, c, z, bad, x);
+    for (; x < x1; ++x) {
+      const float d = z[x] = p[3 * x + 2];
+      const bool valid = d > 0.f && d < kInf;
+      kv[x] = valid ? k[x] : 0.f;
+      t[x] = valid ? k[x] / d : 0.f;
+      c[x] = valid ? 1.f : 0.f;
+      if (!valid) bad[x / 512] |= uint64_t{1} << (x / 8 % 64);
+    }
+  });
 }
 
 bool FalsNormals::solveWindow(int x, int y, const float* const* kv, const float* const* t,
@@ -392,14 +477,28 @@ void FalsNormals::compute(const cv::Mat& points, const cv::Range& rows, cv::Mat&
 void FalsNormals::computeGeometric(const cv::Mat& points, const cv::Range& rows, const Params& p,
                                    cv::Mat& G, cv::Mat* normals) {
   CV_Assert(points.type() == CV_32FC3 && points.size() == size_ && window_ > 0);
+  if (normals) normals->create(size_, CV_32FC3);
+  Output out = geometricOutput(p, G);
+  out.normals = normals;
+  run(points, rows, out);
+}
+
+void FalsNormals::computeGeometric(const cv::Mat& points, const cv::Range& rows, const Params& p,
+                                   const cv::Mat& mask, cv::Mat& G) {
+  CV_Assert(points.type() == CV_32FC3 && points.size() == size_ && window_ > 0 &&
+            mask.type() == CV_8UC1 && mask.size() == size_);
+  Output out = geometricOutput(p, G);
+  out.mask = &mask;
+  run(points, rows, out);
+}
+
+FalsNormals::Output FalsNormals::geometricOutput(const Params& p, cv::Mat& G) const {
   if (G.size() != size_ || G.type() != CV_32FC1) {
     G.create(size_, CV_32FC1);
     G.setTo(0);
   }
-  if (normals) normals->create(size_, CV_32FC3);
   Output out;
   out.G = &G;
-  out.normals = normals;
   RowConst& rc = out.base;
   rc.alpha = static_cast<float>(p.alpha);
   rc.beta = static_cast<float>(p.beta);
@@ -409,7 +508,7 @@ void FalsNormals::computeGeometric(const cv::Mat& points, const cv::Range& rows,
   rc.up[0] = static_cast<float>(p.up_x);
   rc.up[1] = static_cast<float>(p.up_y);
   rc.up[2] = static_cast<float>(p.up_z);
-  run(points, rows, out);
+  return out;
 }
 
 void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output& out) {
@@ -417,6 +516,28 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
   const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, H);
   if (r0 >= r1) return;
   ensureTable(cv::Range(r0, r1));
+
+  // With a mask: per output row, the units to solve (any mask pixel) and the units whose
+  // vertical sums they read (one more each side: h <= 3 columns); a prepared row covers the
+  // latter of every output row whose window it is in. Without: every column (nullptr).
+  const int units = (W + kUnit - 1) / kUnit, nu = (units + 63) / 64;
+  const bool masked = out.mask != nullptr;
+  if (masked) {
+    solve_units_.resize(static_cast<size_t>(r1 - r0) * nu);
+    read_units_.resize(solve_units_.size());
+    prep_units_.resize(nu);
+    for (int y = r0; y < r1; ++y) {
+      uint64_t* solve = &solve_units_[static_cast<size_t>(y - r0) * nu];
+      unitsOfRow(out.mask->ptr<uint8_t>(y), W, solve);
+      dilateUnits(solve, units, &read_units_[static_cast<size_t>(y - r0) * nu]);
+    }
+  }
+  auto solveUnits = [&](int y) -> const uint64_t* {
+    return masked ? &solve_units_[static_cast<size_t>(y - r0) * nu] : nullptr;
+  };
+  auto readUnits = [&](int y) -> const uint64_t* {
+    return masked ? &read_units_[static_cast<size_t>(y - r0) * nu] : nullptr;
+  };
 
   // Ring of prepared rows (planes kv, t, c, z), row r in slot r mod span.
   auto slot = [&](int r) { return prep_.ptr<float>(4 * (((r % span) + span) % span)); };
@@ -428,7 +549,15 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
   auto prepare = [&](int r) {
     float* a = slot(r);
     const int i = ((r % span) + span) % span;
-    prepareRow(points, r, a, a + W, a + 2 * W, a + 3 * W, &bad_[static_cast<size_t>(i) * nw]);
+    const uint64_t* cover = nullptr;
+    if (masked) {
+      std::fill(prep_units_.begin(), prep_units_.end(), uint64_t{0});
+      for (int y = std::max(r0, r - h); y <= std::min(r1 - 1, r + h); ++y)
+        for (int j = 0; j < nu; ++j) prep_units_[j] |= readUnits(y)[j];
+      cover = prep_units_.data();
+    }
+    prepareRow(points, r, cover, a, a + W, a + 2 * W, a + 3 * W,
+               &bad_[static_cast<size_t>(i) * nw]);
   };
   for (int r = r0 - h; r < r0 + h; ++r) prepare(r);
   std::fill(column_row_.begin(), column_row_.end(), -1);
@@ -441,6 +570,12 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
 
   for (int y = r0; y < r1; ++y) {
     prepare(y + h);
+    float* grow = out.G ? out.G->ptr<float>(y) : nullptr;
+    const uint64_t* solve = solveUnits(y);
+    if (masked && std::all_of(solve, solve + nu, [](uint64_t b) { return b == 0; })) {
+      std::fill(grow, grow + W, 0.f);  // nothing to solve in this row
+      continue;
+    }
     for (int d = -h; d <= h; ++d) {
       kv_rows[d + h] = slot(y + d);
       t_rows[d + h] = slot(y + d) + W;
@@ -454,7 +589,6 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
     rc.row_term = static_cast<float>(static_cast<double>(y) / H);
     const float* prow = points.ptr<float>(y);
     float* nrow = out.normals ? out.normals->ptr<float>(y) : nullptr;
-    float* grow = out.G ? out.G->ptr<float>(y) : nullptr;
     // the exact path: normals already of unit length
     auto exact = [&](int x) {
       float n[3] = {0.f, 0.f, 0.f};
@@ -463,12 +597,14 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
              grow ? grow + x : nullptr);
     };
 
-    // resampled at an uneven step (no separable sums), or the reference: every window exactly
     if (!uniform_ || referenceStages()) {
-      for (int x = 0; x < W; ++x) exact(x);
+      // resampled at an uneven step (no separable sums), or the reference: every window exactly
+      forEachRun(solve, W, [&](int x0, int x1) {
+        for (int x = x0; x < x1; ++x) exact(x);
+      });
+      if (masked) maskRow(out.mask->ptr<uint8_t>(y), solve, W, grow);
       continue;
     }
-
     // vertical sums of this row (the k and count moments only where pixels are missing)
     uint64_t* band = near_.data();
     uint64_t* near_h = band + nw;      // bad blocks within 1: the horizontal pass
@@ -485,53 +621,59 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       near_h[j] = band[j] | shifted(j, 1) | shifted(j, -1);
       near_v[j] = near_h[j] | shifted(j, 2) | shifted(j, -2);
     }
-    int x = 0;
-    RLD_DISPATCH(falsVertical)(h, kv_rows, W, near_v, vert, x);
-    for (; x < W; ++x) {
-      float unused;
-      momentsRows(t_rows, x, h, vert[kW0][x], vert[kW1][x], unused);
-      momentsRows(c_rows, x, h, vert[kC][x], vert[kCv1][x], vert[kCv2][x]);
-      momentsRows(kv_rows, x, h, vert[kV0][x], vert[kV1][x], vert[kV2][x]);
-    }
+    forEachRun(readUnits(y), W, [&](int x0, int x1) {
+      int x = x0;
+      RLD_DISPATCH(falsVertical)(h, kv_rows, W, x0, x1, near_v, vert, x);
+      for (; x < x1; ++x) {
+        float unused;
+        momentsRows(t_rows, x, h, vert[kW0][x], vert[kW1][x], unused);
+        momentsRows(c_rows, x, h, vert[kC][x], vert[kCv1][x], vert[kCv2][x]);
+        momentsRows(kv_rows, x, h, vert[kV0][x], vert[kV1][x], vert[kV2][x]);
+      }
+    });
 
     // horizontal sums, solve and outputs; ill-conditioned windows go to the exact path
     const float* table[6];
     for (int j = 0; j < 6; ++j)
       table[j] = table_.ptr<float>(j * table_rows_.size() + y - table_rows_.start);
     int n_slow = 0;
-    RLD_DISPATCH(falsHorizontal)
-    (h, vert, table, W, ncols_.data(), ax_.data(), rc, prow, kv_rows[h] + 3 * W, nrow, grow, near_h,
-     slow_.data(), n_slow, x);
-    for (; x < W; ++x) {
-      float T0, Tu, Tv, N, unused;
-      moments(vert[kW0] + x, 1, h, T0, Tu, unused);
-      moments(vert[kW1] + x, 1, h, Tv, unused, unused);
-      moments(vert[kC] + x, 1, h, N, unused, unused);
-      float n[3];
-      bool ok = true;
-      if (N == ncols_[x] * rc.full_rows) {
-        const float a[6] = {table[0][x], table[1][x], table[2][x],
-                            table[3][x], table[4][x], table[5][x]};
-        solveTable(a, T0, Tu, Tv, ax_[x], rc, n);
-      } else {
-        Partial q;
-        moments(vert[kV0] + x, 1, h, q.K0, q.Ku, q.Kuu);
-        moments(vert[kV1] + x, 1, h, q.Kv, q.Kuv, unused);
-        moments(vert[kV2] + x, 1, h, q.Kvv, unused, unused);
-        moments(vert[kC] + x, 1, h, q.N, q.Cu1, q.Cu2);
-        moments(vert[kCv1] + x, 1, h, q.Cb1, unused, unused);
-        moments(vert[kCv2] + x, 1, h, q.Cb2, unused, unused);
-        const PartialCase pc = solvePartial(q, T0, Tu, Tv, ax_[x], rc, n);
-        if (pc == PartialCase::kExact) {
-          slow_[n_slow++] = x;
-          continue;
+    forEachRun(solve, W, [&](int x0, int x1) {
+      int x = x0;
+      RLD_DISPATCH(falsHorizontal)
+      (h, vert, table, x0, x1, ncols_.data(), ax_.data(), rc, prow, kv_rows[h] + 3 * W, nrow, grow,
+       near_h, slow_.data(), n_slow, x);
+      for (; x < x1; ++x) {
+        float T0, Tu, Tv, N, unused;
+        moments(vert[kW0] + x, 1, h, T0, Tu, unused);
+        moments(vert[kW1] + x, 1, h, Tv, unused, unused);
+        moments(vert[kC] + x, 1, h, N, unused, unused);
+        float n[3];
+        bool ok = true;
+        if (N == ncols_[x] * rc.full_rows) {
+          const float a[6] = {table[0][x], table[1][x], table[2][x],
+                              table[3][x], table[4][x], table[5][x]};
+          solveTable(a, T0, Tu, Tv, ax_[x], rc, n);
+        } else {
+          Partial q;
+          moments(vert[kV0] + x, 1, h, q.K0, q.Ku, q.Kuu);
+          moments(vert[kV1] + x, 1, h, q.Kv, q.Kuv, unused);
+          moments(vert[kV2] + x, 1, h, q.Kvv, unused, unused);
+          moments(vert[kC] + x, 1, h, q.N, q.Cu1, q.Cu2);
+          moments(vert[kCv1] + x, 1, h, q.Cb1, unused, unused);
+          moments(vert[kCv2] + x, 1, h, q.Cb2, unused, unused);
+          const PartialCase pc = solvePartial(q, T0, Tu, Tv, ax_[x], rc, n);
+          if (pc == PartialCase::kExact) {
+            slow_[n_slow++] = x;
+            continue;
+          }
+          ok = pc == PartialCase::kFloat;
         }
-        ok = pc == PartialCase::kFloat;
+        finish(n, ok, prow + 3 * x, ax_[x], rc, nrow ? nrow + 3 * x : nullptr,
+               grow ? grow + x : nullptr);
       }
-      finish(n, ok, prow + 3 * x, ax_[x], rc, nrow ? nrow + 3 * x : nullptr,
-             grow ? grow + x : nullptr);
-    }
+    });
     for (int i = 0; i < n_slow; ++i) exact(slow_[i]);
+    if (masked) maskRow(out.mask->ptr<uint8_t>(y), solve, W, grow);
   }
 }
 

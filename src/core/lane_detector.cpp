@@ -221,8 +221,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   timings_.points = msSince(t);
   fitRoadSurface();             // 3. the road plane from depth, extended where depth is missing
   timings_.road = msSince(t);   //    (improved mode)
-  computeResponses();           // 4.-6. normals and G, template matching, R
-  computeAcquisitionResponses();
+  computeResponses();           // 4.-6. template matching, normals and G, R
   msSince(t);
   const CandidateFrame& cf = candidateFrame(frame);
   finder_.clear();
@@ -291,54 +290,79 @@ void LaneDetector::computePoints(const Frame& frame) {
 
 void LaneDetector::computeResponses() {
   const Params& p = params_;
-  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept).
-  // 4. matching. 3 and 4 are independent: on two cores when OpenCV may use two threads (each
-  // timing is then its own stage's, and they overlap).
-  auto normals = [&] {
+  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept), for every pixel or
+  // (mask given) only where G enters R.
+  auto normals = [&](const cv::Mat* mask) {
     const Clock::time_point t3 = Clock::now();
-    if (p.use_depth) {
-      fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
+    fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
+    if (mask)
+      fals_.computeGeometric(points_, roi_rows_, p, *mask, geometric_);
+    else
       fals_.computeGeometric(points_, roi_rows_, p, geometric_);
-    }
-    timings_.normals = std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
+    timings_.normals += std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
   };
+  // 4. matching, with the acquisition templates too for the sides that acquire
+  const bool acquisition = acquiring_[0] || acquiring_[1];
   auto matching = [&] {
     const Clock::time_point t4 = Clock::now();
     matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
                    response_right_);
+    if (acquisition)
+      acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
+                                 acquisition_response_left_, acquisition_response_right_);
     timings_.matching = std::chrono::duration<double, std::milli>(Clock::now() - t4).count();
   };
-  runPair(normals, matching);
 
-  // 5. R (G was computed with the normals)
-  const Clock::time_point t5 = Clock::now();
-  if (p.use_depth) {
-    if (p.plane_gate > 0.0 && fitter_.previousPlane().valid)
-      applyPlaneGate(roi_rows_, response_left_, response_right_);
-    fuseResponse(response_left_, geometric_, static_cast<float>(p.tau_g), roi_rows_, response_left_);
-    fuseResponse(response_right_, geometric_, static_cast<float>(p.tau_g), roi_rows_, response_right_);
-  } else if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
-    geometric_.create(proc_size_, CV_32FC1);
-    geometric_.setTo(0);
+  if (!p.use_depth) {
+    matching();
+    if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
+      geometric_.create(proc_size_, CV_32FC1);
+      geometric_.setTo(0);
+    } else {
+      geometric_(roi_).setTo(0);
+    }
+    return;
+  }
+  if (full_geometric_) {
+    // G everywhere does not depend on M: 3 and 4 on two cores when OpenCV may use two threads
+    // (each timing is then its own stage's, and they overlap)
+    runPair([&] { normals(nullptr); }, matching);
   } else {
-    geometric_(roi_).setTo(0);
+    matching();
+  }
+  const Clock::time_point t5 = Clock::now();
+  if (p.plane_gate > 0.0 && fitter_.previousPlane().valid) {
+    applyPlaneGate(roi_rows_, response_left_, response_right_);
+    if (acquisition)
+      applyPlaneGate(roi_rows_, acquisition_response_left_, acquisition_response_right_);
   }
   timings_.response = std::chrono::duration<double, std::milli>(Clock::now() - t5).count();
-}
-
-void LaneDetector::computeAcquisitionResponses() {
-  if (!acquiring_[0] && !acquiring_[1]) return;
-  const Clock::time_point t0 = Clock::now();
-  const Params& p = params_;
-  acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
-                             acquisition_response_left_, acquisition_response_right_);
-  if (p.use_depth) {
-    if (p.plane_gate > 0.0 && fitter_.previousPlane().valid)
-      applyPlaneGate(roi_rows_, acquisition_response_left_, acquisition_response_right_);
-    for (cv::Mat* R : {&acquisition_response_left_, &acquisition_response_right_})
-      fuseResponse(*R, geometric_, static_cast<float>(p.tau_g), roi_rows_, *R);
+  const float tau = static_cast<float>(p.tau_g);
+  if (!full_geometric_) {
+    // R needs G only where M >= tau_G (about 1% of the pixels of a road): G there only, which
+    // saves most of the normals stage
+    const Clock::time_point t3 = Clock::now();
+    if (acquisition)
+      fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
+                  &acquisition_response_right_},
+                 tau, roi_rows_, fusion_mask_);
+    else
+      fusionMask({&response_left_, &response_right_}, tau, roi_rows_, fusion_mask_);
+    timings_.normals = std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
+    normals(&fusion_mask_);
   }
-  timings_.matching += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  // 5. R
+  const Clock::time_point t6 = Clock::now();
+  fuseResponse(response_left_, geometric_, tau, roi_rows_, response_left_);
+  fuseResponse(response_right_, geometric_, tau, roi_rows_, response_right_);
+  if (acquisition) {
+    fuseResponse(acquisition_response_left_, geometric_, tau, roi_rows_,
+                 acquisition_response_left_);
+    fuseResponse(acquisition_response_right_, geometric_, tau, roi_rows_,
+                 acquisition_response_right_);
+  }
+  timings_.response += std::chrono::duration<double, std::milli>(Clock::now() - t6).count();
 }
 
 void LaneDetector::fitRoadSurface() {

@@ -31,6 +31,24 @@ int fuseRow(const float* m, const float* g, float tau, int n, float* r) {
   return x;
 }
 
+// 255 where any of the rows m[0 .. count) is at least tau, 0 elsewhere; returns the columns done.
+int maskRow(const float* const* m, int count, float tau, int n, uint8_t* out) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const hn::Rebind<int8_t, decltype(di)> d8;
+  const int N = static_cast<int>(hn::Lanes(d));
+  const auto t = hn::Set(d, tau);
+  int x = 0;
+  for (; x + N <= n; x += N) {
+    auto any = hn::Ge(hn::LoadU(d, m[0] + x), t);
+    for (int i = 1; i < count; ++i) any = hn::Or(any, hn::Ge(hn::LoadU(d, m[i] + x), t));
+    // all-ones lanes (-1) narrow to the byte 255
+    const auto bytes = hn::DemoteTo(d8, hn::BitCast(di, hn::VecFromMask(d, any)));
+    hn::StoreU(bytes, d8, reinterpret_cast<int8_t*>(out + x));
+  }
+  return x;
+}
+
 // The maximum of a row's whole vectors and its first column, in one pass (each lane keeps the
 // first column of its own maximum); returns the columns read (0: none, value and column unset).
 int rowArgMax(const float* r, int n, float& value, int& column) {
@@ -69,11 +87,15 @@ int fuseRowScalar(const float*, const float*, float, int, float*) {
 int rowArgMaxScalar(const float*, int, float&, int&) {
   return 0;
 }
+int maskRowScalar(const float* const*, int, float, int, uint8_t*) {
+  return 0;
+}
 }  // namespace
 
 #ifdef RLD_HAVE_HWY
 HWY_EXPORT(fuseRow);
 HWY_EXPORT(rowArgMax);
+HWY_EXPORT(maskRow);
 #endif
 
 void geometricMap(const cv::Mat& points, const cv::Mat& normals, const Params& p,
@@ -137,6 +159,31 @@ void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Ran
     float* r = R.ptr<float>(y);
     int x = RLD_DISPATCH(fuseRow)(m, g, tau_g, M.cols, r);
     for (; x < M.cols; ++x) r[x] = fusedValue(m[x], g[x], tau_g);
+  }
+}
+
+void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const cv::Range& rows,
+                cv::Mat& mask) {
+  CV_Assert(maps.size() > 0 && maps.size() <= kMaxFusedMaps);
+  const cv::Size size = (*maps.begin())->size();
+  for (const cv::Mat* m : maps) CV_Assert(m->type() == CV_32FC1 && m->size() == size);
+  if (mask.size() != size || mask.type() != CV_8UC1) {
+    mask.create(size, CV_8UC1);
+    mask.setTo(0);
+  }
+  const int count = static_cast<int>(maps.size());
+  const float* row[kMaxFusedMaps];
+  const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, size.height);
+  for (int y = r0; y < r1; ++y) {
+    int i = 0;
+    for (const cv::Mat* m : maps) row[i++] = m->ptr<float>(y);
+    uint8_t* out = mask.ptr<uint8_t>(y);
+    int x = RLD_DISPATCH(maskRow)(row, count, tau_g, size.width, out);
+    for (; x < size.width; ++x) {
+      bool any = false;
+      for (i = 0; i < count; ++i) any = any || row[i][x] >= tau_g;
+      out[x] = any ? 255 : 0;
+    }
   }
 }
 

@@ -453,6 +453,8 @@ FrameOutcome LaneDetectorNodelet::processFrame(const Image& colour, const Image&
     return FrameOutcome::kNoTargetTransform;
   setVehicleFrame(image_header, frame);
 
+  // G everywhere only for the response/geometric image; R needs it where M >= tau_G only
+  detector_.setFullGeometricMap(wanted.geometric);
   Status status;
   try {
     status = detector_.detect(frame, result_);

@@ -1,8 +1,13 @@
 // FALS normals: accuracy on planes, agreement with OpenCV contrib, orientation, invalid depth.
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/opencv_modules.hpp>
 // OpenCV built with contrib, and its headers here (not in the aarch64 sysroot of make test-arm64)
 #if defined(HAVE_OPENCV_RGBD) && __has_include(<opencv2/rgbd.hpp>)
@@ -15,6 +20,7 @@
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/response_map.h"
+#include "simd.h"  // private: targets
 
 namespace rgbd_lane_detector {
 namespace {
@@ -357,6 +363,83 @@ TEST(FalsNormals, GeometricMapEqualsTheMapOfTheNormals) {
         }
       }
   }
+}
+
+// G only where R needs it (a mask): the same bits as the whole map on the mask and 0 elsewhere,
+// on every target, for masks of single pixels, runs that end at the last column (the width is
+// not a whole number of 16-column units), a full and an empty mask, next to holes.
+TEST(FalsNormals, MaskedGeometricMapIsTheWholeMapOnTheMask) {
+  const Intrinsics K{266.37, 266.37, 160.0, 40.0};
+  const cv::Size size(333, 97);
+  std::vector<int> su(size.width), sv(size.height);
+  for (int x = 0; x < size.width; ++x) su[x] = x;
+  for (int y = 0; y < size.height; ++y) sv[y] = y;
+  const cv::Mat pts = wavyPoints(K, size, su, sv);  // holes, a step edge, a crescent of pixels
+  std::vector<std::pair<const char*, cv::Mat>> masks;
+  cv::Mat sparse = cv::Mat::zeros(size, CV_8UC1);
+  cv::RNG rng(3);
+  for (int i = 0; i < 300; ++i)
+    sparse.at<uint8_t>(rng.uniform(0, size.height), rng.uniform(0, size.width)) = 255;
+  masks.emplace_back("single pixels", sparse);
+  cv::Mat edges = cv::Mat::zeros(size, CV_8UC1);
+  for (int y = 0; y < size.height; y += 3) {
+    edges.at<uint8_t>(y, 0) = 255;
+    edges.at<uint8_t>(y, size.width - 1) = 255;
+    for (int x = 310; x < 330; ++x) edges.at<uint8_t>(y + 1 < size.height ? y + 1 : y, x) = 1;
+  }
+  cv::line(edges, cv::Point(20, 0), cv::Point(140, 96), cv::Scalar(255), 3);  // a marker
+  cv::circle(edges, cv::Point(40, 30), 9, cv::Scalar(255), -1);               // over a hole
+  masks.emplace_back("edges, a line and a disc", edges);
+  masks.emplace_back("full", cv::Mat(size, CV_8UC1, cv::Scalar(255)));
+  masks.emplace_back("empty", cv::Mat::zeros(size, CV_8UC1));
+  Params p;
+  p.depth_threshold = 4.2;  // both branches of Eq. 2
+  const cv::Range rows(3, 90);
+  cv::Mat other = pts * 1.3;  // an earlier frame's cloud: what the buffers hold before
+  // every target, and the reference (every window solved in double) on the best one
+  std::vector<std::pair<simd::Target, bool>> runs;
+  for (simd::Target target : simd::availableTargets()) runs.emplace_back(target, false);
+  runs.emplace_back(simd::kBest, true);
+  for (const auto& run : runs) {
+    simd::forceTarget(run.first);
+    setReferenceStages(run.second);
+    for (int window : {3, 5, 7}) {
+      FalsNormals whole_fals;
+      whole_fals.configure(size, K, window);
+      cv::Mat whole;
+      whole_fals.computeGeometric(pts, rows, p, whole);
+      for (const auto& m : masks) {
+        SCOPED_TRACE(testing::Message()
+                     << simd::targetName(simd::currentTarget()) << (run.second ? " reference" : "")
+                     << ", window " << window << ", mask " << m.first);
+        FalsNormals fals;
+        fals.configure(size, K, window);
+        cv::Mat G;
+        fals.computeGeometric(other, rows, p, G);
+        G.setTo(7.f);  // stale values must be overwritten
+        fals.computeGeometric(pts, rows, p, m.second, G);
+        int differ = 0, on_mask = 0;
+        for (int y = 0; y < size.height; ++y)
+          for (int x = 0; x < size.width; ++x) {
+            const float g = G.at<float>(y, x);
+            if (y < rows.start || y >= rows.end) {
+              differ += g != 7.f;  // rows outside the range are not touched
+            } else if (m.second.at<uint8_t>(y, x)) {
+              ++on_mask;
+              differ += std::memcmp(&g, &whole.at<float>(y, x), sizeof(float)) != 0;
+            } else {
+              differ += g != 0.f;
+            }
+          }
+        EXPECT_EQ(differ, 0);
+        if (std::string(m.first) != "empty") {
+          EXPECT_GT(on_mask, 200);
+        }
+      }
+    }
+  }
+  setReferenceStages(false);
+  simd::forceTarget(simd::kBest);
 }
 
 }  // namespace

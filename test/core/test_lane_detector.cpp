@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -136,8 +137,11 @@ TEST(LaneDetector, EveryTargetGivesTheSameBits) {
   for (size_t k = 0; k < targets.size(); ++k) {
     simd::forceTarget(targets[k]);
     EXPECT_EQ(simd::currentTarget(), targets[k]);
-    for (const Params& params : {Params::improved(), Params::paper()}) {
-      LaneDetector det(params);  // improved: the road gate also keeps the normals
+    // improved: the road gate also keeps the normals; paper twice: G only where it enters R
+    // (the default), and everywhere (setFullGeometricMap)
+    for (int run = 0; run < 3; ++run) {
+      LaneDetector det(run == 0 ? Params::improved() : Params::paper());
+      det.setFullGeometricMap(run == 2);
       for (int i = 0; i < 4; ++i) {
         RoadScene scene;
         scene.width = 333;  // odd: vector bodies and scalar tails
@@ -186,6 +190,81 @@ TEST(LaneDetector, EveryTargetGivesTheSameBits) {
       EXPECT_EQ(a.plane.normal, b.plane.normal);
       EXPECT_EQ(a.plane.distance, b.plane.distance);
     }
+  }
+}
+
+// By default G is computed only where it enters R (M >= tau_G in any match map): R, the
+// detections and the carried state are those of the whole map, frame after frame, and G is the
+// whole map's there and 0 elsewhere. Improved mode: the acquisition templates add their maps.
+TEST(LaneDetector, GeometricMapOnlyWhereItEntersRChangesNoDetection) {
+  for (const Params& params : {Params::improved(), Params::paper()}) {
+    SCOPED_TRACE(params.acquisition_angle_deg > 0.0 ? "improved" : "paper");
+    LaneDetector whole(params), masked(params);
+    whole.setFullGeometricMap(true);
+    EXPECT_FALSE(masked.fullGeometricMap());
+    int g_kept = 0;
+    for (int i = 0; i < 6; ++i) {
+      SCOPED_TRACE(testing::Message() << "frame " << i);
+      RoadScene scene;
+      scene.right_dashed = true;
+      // toward the right line, so that it is steep in the image; reset() on odd frames: the
+      // acquisition templates' maps (sides without a tracked line) enter R too
+      scene.lateral_offset = 0.3 * i;
+      scene.travelled = 2.0 * i;
+      scene.right_painted = i != 4;
+      if (i % 2) {
+        whole.reset();
+        masked.reset();
+      }
+      cv::Mat bgr, depth;
+      Frame f = makeFrame(scene, bgr, depth);
+      cv::circle(depth, cv::Point(200 + 30 * i, 400), 9, cv::Scalar(0), -1);  // missing depth
+      Result a, b;
+      ASSERT_EQ(whole.detect(f, a), Status::kOk);
+      ASSERT_EQ(masked.detect(f, b), Status::kOk);
+      for (const auto& maps : {std::make_pair(&a.response_left, &b.response_left),
+                               std::make_pair(&a.response_right, &b.response_right)})
+        EXPECT_EQ(std::memcmp(maps.first->data, maps.second->data,
+                              maps.first->total() * maps.first->elemSize()),
+                  0);
+      EXPECT_EQ(a.left.found, b.left.found);
+      EXPECT_EQ(a.right.found, b.right.found);
+      EXPECT_EQ(a.left.pixels, b.left.pixels);
+      EXPECT_EQ(a.right.pixels, b.right.pixels);
+      EXPECT_EQ(a.plane.valid, b.plane.valid);
+      EXPECT_EQ(a.plane.normal, b.plane.normal);
+      EXPECT_EQ(a.template_angle_left, b.template_angle_left);
+      EXPECT_EQ(a.template_angle_right, b.template_angle_right);
+      // every traced line, the acquisition templates' included: same pixels, same R scores
+      for (int side = 0; side < 2; ++side) {
+        int na = 0, nb = 0;
+        const BoundaryCandidate* ca = whole.candidates(side, na);
+        const BoundaryCandidate* cb = masked.candidates(side, nb);
+        ASSERT_EQ(na, nb);
+        for (int k = 0; k < na; ++k) {
+          EXPECT_EQ(ca[k].trace.pixels, cb[k].trace.pixels);
+          EXPECT_EQ(ca[k].trace.scores, cb[k].trace.scores);
+        }
+      }
+      const float tau = static_cast<float>(params.tau_g);
+      int wrong = 0, zero_in_full = 0;
+      for (int y = a.roi.y; y < a.roi.br().y; ++y)
+        for (int x = 0; x < a.geometric.cols; ++x) {
+          const float g = b.geometric.at<float>(y, x), full = a.geometric.at<float>(y, x);
+          const bool enters =
+              a.response_left.at<float>(y, x) >= tau || a.response_right.at<float>(y, x) >= tau;
+          if (enters) {
+            wrong += g != full;
+            g_kept += g != 0.f;
+          } else {
+            wrong += g != 0.f && g != full;  // an acquisition map's pixel, or 0
+          }
+          zero_in_full += full == 0.f;
+        }
+      EXPECT_EQ(wrong, 0);
+      EXPECT_LT(zero_in_full, a.roi.area() / 100) << "the whole map is not whole";
+    }
+    EXPECT_GT(g_kept, 500) << "no G where it enters R";
   }
 }
 

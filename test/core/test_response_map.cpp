@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "rgbd_lane_detector/response_map.h"
+#include "simd.h"  // private: targets
 
 namespace rgbd_lane_detector {
 namespace {
@@ -60,6 +61,59 @@ TEST(ResponseMap, MapsOverRowsWithUpAxisAndInPlaceFusion) {
   EXPECT_NEAR(M.at<float>(1, 0), 0.7 + 0.4 * 0.8 + 0.05, 1e-6);
   EXPECT_FLOAT_EQ(M.at<float>(1, 2), 0.2f);
   EXPECT_FLOAT_EQ(M.at<float>(0, 0), 0.7f);  // outside the rows: unchanged
+}
+
+// Where G enters R: any map at tau_G or above (ties included), over the given rows, on every
+// target, for one to four maps; a width that leaves a scalar tail on every vector target.
+TEST(ResponseMap, FusionMaskIsAnyMapAtTauOrAbove) {
+  const cv::Size size(37, 9);
+  const float tau = 0.5f;
+  cv::RNG rng(8);
+  cv::Mat maps[kMaxFusedMaps];
+  for (cv::Mat& m : maps) {
+    m.create(size, CV_32FC1);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const int r = rng.uniform(0, 10);
+        // exactly tau, just below it, above it, zero
+        m.at<float>(y, x) = r == 0 ? tau : r == 1 ? std::nextafter(tau, 0.f) : r == 2 ? 0.9f : 0.f;
+      }
+  }
+  const cv::Range rows(1, 8);
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (int count = 1; count <= kMaxFusedMaps; ++count) {
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", " << count << " maps");
+      cv::Mat mask;
+      switch (count) {
+        case 1:
+          fusionMask({&maps[0]}, tau, rows, mask);
+          break;
+        case 2:
+          fusionMask({&maps[0], &maps[1]}, tau, rows, mask);
+          break;
+        case 3:
+          fusionMask({&maps[0], &maps[1], &maps[2]}, tau, rows, mask);
+          break;
+        default:
+          fusionMask({&maps[0], &maps[1], &maps[2], &maps[3]}, tau, rows, mask);
+      }
+      ASSERT_EQ(mask.type(), CV_8UC1);
+      int wrong = 0, set = 0;
+      for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x) {
+          bool any = false;
+          for (int i = 0; i < count; ++i) any = any || maps[i].at<float>(y, x) >= tau;
+          const bool inside = y >= rows.start && y < rows.end;
+          const int want = inside && any ? 255 : 0;
+          wrong += mask.at<uint8_t>(y, x) != want;
+          set += want != 0;
+        }
+      EXPECT_EQ(wrong, 0);
+      EXPECT_GT(set, 0);
+    }
+  }
+  simd::forceTarget(simd::kBest);
 }
 
 // findSeed's maximum: cv::minMaxLoc's value and first position (row-major) on ties.
