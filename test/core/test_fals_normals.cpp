@@ -268,6 +268,14 @@ cv::Mat wavyPoints(const Intrinsics& K, cv::Size size, const std::vector<int>& s
   return pts;
 }
 
+// The same, each pixel its own source pixel.
+cv::Mat wavyPoints(const Intrinsics& K, cv::Size size) {
+  std::vector<int> su(size.width), sv(size.height);
+  for (int x = 0; x < size.width; ++x) su[x] = x;
+  for (int y = 0; y < size.height; ++y) sv[y] = y;
+  return wavyPoints(K, size, su, sv);
+}
+
 // Same NaN pattern, and angles within tol_rad. Float points alone limit a 5x5 fit at 4 m to about
 // 1e-5 rad; the float box sums add a few 1e-5 at clipped (border) windows.
 void expectMatchesReference(const cv::Mat& normals, const cv::Mat& ref, double tol_rad) {
@@ -332,10 +340,7 @@ TEST(FalsNormals, EqualsTheDefinitionWhenResampled) {
 TEST(FalsNormals, GeometricMapEqualsTheMapOfTheNormals) {
   const Intrinsics K{266.37, 266.37, 60.0, 40.0};
   const cv::Size size(125, 83);
-  std::vector<int> su(size.width), sv(size.height);
-  for (int x = 0; x < size.width; ++x) su[x] = x;
-  for (int y = 0; y < size.height; ++y) sv[y] = y;
-  const cv::Mat pts = wavyPoints(K, size, su, sv);
+  const cv::Mat pts = wavyPoints(K, size);
   FalsNormals fals;
   fals.configure(size, K, 5);
   cv::Mat normals, G_ref, G, kept;
@@ -371,10 +376,7 @@ TEST(FalsNormals, GeometricMapEqualsTheMapOfTheNormals) {
 TEST(FalsNormals, MaskedGeometricMapIsTheWholeMapOnTheMask) {
   const Intrinsics K{266.37, 266.37, 160.0, 40.0};
   const cv::Size size(333, 97);
-  std::vector<int> su(size.width), sv(size.height);
-  for (int x = 0; x < size.width; ++x) su[x] = x;
-  for (int y = 0; y < size.height; ++y) sv[y] = y;
-  const cv::Mat pts = wavyPoints(K, size, su, sv);  // holes, a step edge, a crescent of pixels
+  const cv::Mat pts = wavyPoints(K, size);  // holes, a step edge, a crescent of pixels
   std::vector<std::pair<const char*, cv::Mat>> masks;
   cv::Mat sparse = cv::Mat::zeros(size, CV_8UC1);
   cv::RNG rng(3);

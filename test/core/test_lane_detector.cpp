@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -123,6 +122,25 @@ TEST(LaneDetector, FastStagesGiveTheReferenceResults) {
   }
 }
 
+// Two maps with the same size, type and bits.
+bool sameBits(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() &&
+         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+}
+
+// The same R bits, traced pixels and plane.
+void expectSameDetections(const Result& a, const Result& b) {
+  EXPECT_TRUE(sameBits(a.response_left, b.response_left));
+  EXPECT_TRUE(sameBits(a.response_right, b.response_right));
+  EXPECT_EQ(a.left.pixels, b.left.pixels);
+  EXPECT_EQ(a.right.pixels, b.right.pixels);
+  EXPECT_EQ(a.left.found, b.left.found);
+  EXPECT_EQ(a.right.found, b.right.found);
+  EXPECT_EQ(a.plane.valid, b.plane.valid);
+  EXPECT_EQ(a.plane.normal, b.plane.normal);
+  EXPECT_EQ(a.plane.distance, b.plane.distance);
+}
+
 // The kernels dispatch on the CPU (x86: AVX-512, AVX2, SSE4; aarch64: NEON; and the scalar
 // loops): every target this machine runs gives the same bits as the scalar one, so results do
 // not depend on the machine.
@@ -167,10 +185,6 @@ TEST(LaneDetector, EveryTargetGivesTheSameBits) {
     }
   }
   simd::forceTarget(simd::kBest);
-  auto bits = [](const cv::Mat& a, const cv::Mat& b) {
-    return a.size() == b.size() && a.type() == b.type() &&
-           std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
-  };
   const size_t ref = targets.size() - 1;  // the scalar target (the last, lowest)
   for (size_t k = 0; k < ref; ++k) {
     for (size_t i = 0; i < results[k].size(); ++i) {
@@ -178,17 +192,9 @@ TEST(LaneDetector, EveryTargetGivesTheSameBits) {
                                       << simd::targetName(targets[ref]) << ", frame " << i);
       const Result& a = results[k][i];
       const Result& b = results[ref][i];
-      EXPECT_TRUE(bits(a.half_binary, b.half_binary));
-      EXPECT_TRUE(bits(a.geometric, b.geometric));
-      EXPECT_TRUE(bits(a.response_left, b.response_left));
-      EXPECT_TRUE(bits(a.response_right, b.response_right));
-      EXPECT_EQ(a.left.pixels, b.left.pixels);
-      EXPECT_EQ(a.right.pixels, b.right.pixels);
-      EXPECT_EQ(a.left.found, b.left.found);
-      EXPECT_EQ(a.right.found, b.right.found);
-      EXPECT_EQ(a.plane.valid, b.plane.valid);
-      EXPECT_EQ(a.plane.normal, b.plane.normal);
-      EXPECT_EQ(a.plane.distance, b.plane.distance);
+      EXPECT_TRUE(sameBits(a.half_binary, b.half_binary));
+      EXPECT_TRUE(sameBits(a.geometric, b.geometric));
+      expectSameDetections(a, b);
     }
   }
 }
@@ -222,17 +228,7 @@ TEST(LaneDetector, GeometricMapOnlyWhereItEntersRChangesNoDetection) {
       Result a, b;
       ASSERT_EQ(whole.detect(f, a), Status::kOk);
       ASSERT_EQ(masked.detect(f, b), Status::kOk);
-      for (const auto& maps : {std::make_pair(&a.response_left, &b.response_left),
-                               std::make_pair(&a.response_right, &b.response_right)})
-        EXPECT_EQ(std::memcmp(maps.first->data, maps.second->data,
-                              maps.first->total() * maps.first->elemSize()),
-                  0);
-      EXPECT_EQ(a.left.found, b.left.found);
-      EXPECT_EQ(a.right.found, b.right.found);
-      EXPECT_EQ(a.left.pixels, b.left.pixels);
-      EXPECT_EQ(a.right.pixels, b.right.pixels);
-      EXPECT_EQ(a.plane.valid, b.plane.valid);
-      EXPECT_EQ(a.plane.normal, b.plane.normal);
+      expectSameDetections(a, b);
       EXPECT_EQ(a.template_angle_left, b.template_angle_left);
       EXPECT_EQ(a.template_angle_right, b.template_angle_right);
       // every traced line, the acquisition templates' included: same pixels, same R scores
