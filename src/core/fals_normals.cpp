@@ -262,7 +262,7 @@ void dilateUnits(const uint64_t* src, int n, uint64_t* dst) {
 }
 
 // G is 0 outside the mask: between the solved units, and at their pixels outside it.
-void maskRow(const uint8_t* m, const uint64_t* solved, int W, float* g) {
+void zeroOutsideMask(const uint8_t* m, const uint64_t* solved, int W, float* g) {
   int end = 0;
   forEachRun(solved, W, [&](int x0, int x1) {
     std::fill(g + end, g + x0, 0.f);
@@ -602,7 +602,7 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       forEachRun(solve, W, [&](int x0, int x1) {
         for (int x = x0; x < x1; ++x) exact(x);
       });
-      if (masked) maskRow(out.mask->ptr<uint8_t>(y), solve, W, grow);
+      if (masked) zeroOutsideMask(out.mask->ptr<uint8_t>(y), solve, W, grow);
       continue;
     }
     // vertical sums of this row (the k and count moments only where pixels are missing)
@@ -673,7 +673,7 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
       }
     });
     for (int i = 0; i < n_slow; ++i) exact(slow_[i]);
-    if (masked) maskRow(out.mask->ptr<uint8_t>(y), solve, W, grow);
+    if (masked) zeroOutsideMask(out.mask->ptr<uint8_t>(y), solve, W, grow);
   }
 }
 
