@@ -1,8 +1,11 @@
-// evaluate_real: score the lane detector on the hand-labelled real frames of ../shared/realdata
-// (test/data/realdata_labels.yaml) with each depth source the data offers (KITTI: the LiDAR and
-// StereoSGBM on the colour pair), each also mirrored and without depth near the car
-// (real_variants.h), and compare each road plane with a RANSAC plane of the LiDAR's road points.
-// Writes a Markdown table, a CSV and the overlays of every frame.
+// evaluate_real: score the lane detector on the hand-labelled real frames and sequences of
+// ../shared/realdata (test/data/realdata_labels.yaml and the other label files) with each depth
+// source the data offers (the LiDAR, and StereoSGBM where there is a right image), the frames
+// also in stress variants (real_variants.h), and compare each road plane with a RANSAC plane of
+// the LiDAR's road points. A sequence (frames that are not independent snapshots) runs in order
+// at its own stamps with tracking and the lane model, each frame scored, and the lane model's
+// ego boundaries scored too, with their frame-to-frame change. Writes a summary and per-frame
+// Markdown tables, a CSV and the overlays.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/lane_model.h"
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector_tools/command_line.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
@@ -30,12 +34,62 @@ namespace {
 struct Row {
   std::string dataset, frame, depth, variant, mode;
   tools::LabelledFrame label;  ///< as the variant sees it
+  bool sequence = false;       ///< a frame of a sequence run in order (tracking, lane model)
   bool lane = false;
   tools::RealFrameScore score;
   bool plane = false;
+  bool have_reference = false;                   // the LiDAR shows a road plane
   double plane_angle = NAN, plane_offset = NAN;  // against the LiDAR RANSAC plane
   double ms = 0.0;
+  // sequences: the lane model's ego boundaries against the labels, and their c0 (m, vehicle
+  // frame) for the frame-to-frame change (NaN: not valid)
+  bool model_valid = false;
+  tools::RealFrameScore model;
+  double c0[2] = {NAN, NAN};
 };
+
+// The camera mount a vehicle would have calibrated: the road frame of the median LiDAR road
+// plane over the sequence's frames (x forward on the road, z up, the origin on the road below
+// the camera).
+bool sequenceMount(const std::vector<tools::DatasetFrame>& frames, Eigen::Isometry3d& T) {
+  std::vector<double> nx, ny, nz, d;
+  for (const auto& f : frames) {
+    Eigen::Vector3d n;
+    double dist = 0.0;
+    if (!f.referenceRoadPlane(n, dist)) continue;
+    nx.push_back(n.x());
+    ny.push_back(n.y());
+    nz.push_back(n.z());
+    d.push_back(dist);
+  }
+  if (d.empty()) return false;
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  PlaneEstimate plane;
+  plane.valid = true;
+  plane.normal = Eigen::Vector3d(median(nx), median(ny), median(nz)).normalized();
+  plane.distance = median(d);
+  T = roadAlignedFrame(plane);
+  return true;
+}
+
+// A lane-model boundary as a trace in the optical frame (points on the road every metre of its
+// range up to 40 m), so that it is scored like a traced side.
+void modelBoundaryTrace(const LaneBoundaryModel& b, const Eigen::Isometry3d& vehicle_from_camera,
+                        MarkerTrace& m) {
+  m = MarkerTrace();
+  if (!b.valid) return;
+  m.found = true;
+  m.kind = b.kind == LineKind::kRoadEdge ? BoundaryKind::kRoadEdge : BoundaryKind::kPaint;
+  m.paint_coverage = b.kind == LineKind::kDashed ? 0.0f : b.kind == LineKind::kSolid ? 1.0f : -1.0f;
+  m.yellowness = b.colour == LineColour::kYellow ? 1.0f : b.colour == LineColour::kWhite ? 0.0f : -1.0f;
+  const Eigen::Isometry3d camera_from_vehicle = vehicle_from_camera.inverse();
+  for (double x = std::max(1.0, std::ceil(b.x_min)); x <= std::min(40.0, b.x_max); x += 1.0)
+    m.points.push_back((camera_from_vehicle * Eigen::Vector3d(x, b.lateral(x), 0.0)).cast<float>());
+  m.num_valid_points = static_cast<int>(m.points.size());
+}
 
 const char* sideText(const tools::RealSideScore& s) {
   if (!s.labelled && !s.reported) return "-";
@@ -62,26 +116,29 @@ std::string fmt(double v, const char* f = "%.2f") {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string labels_path, realdata, markdown, csv, images;
-  std::vector<std::string> modes_list, depths_list, variants_list;
+  std::string realdata, markdown, csv, images;
+  std::vector<std::string> labels_paths, modes_list, depths_list, variants_list;
   tools::CommandLine cl(
       "evaluate_real",
-      "Score the detector on the hand-labelled real frames (each side right when >= 80% of its\n"
-      "points lie within 0.30 m of the labelled line of its kind; every side reported on a frame\n"
-      "without a lane is wrong), with every depth source of each dataset.\n"
+      "Score the detector on the hand-labelled real frames and sequences (each side right when\n"
+      ">= 80% of its points lie within 0.30 m of the labelled line and its kind is the labelled\n"
+      "kind; every side reported on a frame without a lane is wrong), with every depth source.\n"
+      "Frame sets: each frame on its own (the detector reset), in every variant. Sequences: the\n"
+      "frames in order at their own stamps (tracking, lane model), as recorded; the lane model's\n"
+      "ego boundaries scored the same way, and their frame-to-frame change.\n"
       "example: evaluate_real --labels test/data/realdata_labels.yaml --realdata ../shared/realdata"
       " --markdown build/eval/real.md --images docs/images");
-  cl.add("labels", "label file (required)", &labels_path);
+  cl.add("labels", "label file (repeatable; at least one)", &labels_paths);
   cl.add("realdata", "folder holding the labelled datasets (required)", &realdata);
   cl.add("mode", "detector mode to score (repeatable; default improved)", &modes_list);
   cl.add("depth", "depth source for stereo datasets: dataset, sgbm (repeatable; default both)",
          &depths_list);
   cl.add("variant",
-         "frame variant: as_is, mirrored (left-right), no_near_depth (no depth in the bottom 30% "
-         "of the rows), half_resolution (half the width and height), underexposed (colour at "
-         "60%), overexposed (colour at 140%, saturating) (repeatable; default all)",
+         "frame variant of frame sets: as_is, mirrored (left-right), no_near_depth (no depth in "
+         "the bottom 30% of the rows), half_resolution (half the width and height), underexposed "
+         "(colour at 60%), overexposed (colour at 140%, saturating) (repeatable; default all)",
          &variants_list);
-  cl.add("markdown", "write the table here", &markdown);
+  cl.add("markdown", "write the tables here", &markdown);
   cl.add("csv", "write one line per frame, depth, variant and mode here", &csv);
   cl.add("images",
          "write the overlays (real_<dataset>_<frame>_<depth>[_<variant>]_<mode>.jpg) here",
@@ -89,7 +146,7 @@ int main(int argc, char** argv) {
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
   if (parsed == tools::CommandLine::Parse::kError) return 2;
-  if (labels_path.empty() || realdata.empty()) {
+  if (labels_paths.empty() || realdata.empty()) {
     std::cerr << "evaluate_real: --labels and --realdata are required\n";
     return 2;
   }
@@ -107,9 +164,13 @@ int main(int argc, char** argv) {
   if (variants.empty()) variants = tools::allRealVariants();
   std::string error;
   std::vector<tools::LabelledFrame> labels;
-  if (!tools::readRealLabels(labels_path, labels, error)) {
-    std::cerr << "evaluate_real: " << error << "\n";
-    return 1;
+  for (const std::string& path : labels_paths) {
+    std::vector<tools::LabelledFrame> more;
+    if (!tools::readRealLabels(path, more, error)) {
+      std::cerr << "evaluate_real: " << error << "\n";
+      return 1;
+    }
+    labels.insert(labels.end(), more.begin(), more.end());
   }
   if (!images.empty()) fs::create_directories(images);
 
@@ -136,19 +197,33 @@ int main(int argc, char** argv) {
         std::cerr << "evaluate_real: " << error << "\n";
         return 1;
       }
-      // the labelled frames of this dataset and depth source (a handful: kept in memory so that
-      // the stereo depth is computed once for every mode)
+      const bool sequence = !reader->independentFrames();
+      // the frames of this dataset and depth source (a frame set: the labelled ones; a
+      // sequence: all of them), kept in memory so that the stereo depth is computed once for
+      // every mode
       std::vector<tools::DatasetFrame> frames;
+      std::vector<tools::LabelledFrame> frame_labels;
+      std::vector<bool> has_label;
       tools::DatasetFrame frame;
       while (reader->next(frame)) {
-        if (!tools::findRealLabel(labels, ds, frame.name)) continue;
+        tools::LabelledFrame label;
+        const bool labelled = tools::realLabelOf(labels, ds, frame.name, label);
+        if (!labelled && !sequence) continue;
+        if (!labelled) label.dataset = ds, label.frame = frame.name;
+        tools::undistortLabel(frame.intrinsics, frame.distortion, label);
         frames.push_back(frame);
+        frame_labels.push_back(label);
+        has_label.push_back(labelled);
         frame = tools::DatasetFrame();
       }
       if (!reader->error().empty()) {
         std::cerr << "evaluate_real: " << reader->error() << "\n";
         return 1;
       }
+      Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+      const bool have_mount = sequence && sequenceMount(frames, mount);
+      const std::vector<tools::RealVariant> run_variants =
+          sequence ? std::vector<tools::RealVariant>{tools::RealVariant::kAsIs} : variants;
       for (const std::string& mode : modes_list) {
         tools::ParamChoice choice;
         choice.mode = mode;
@@ -157,110 +232,212 @@ int main(int argc, char** argv) {
           std::cerr << "evaluate_real: " << error << "\n";
           return 2;
         }
+        tools::RealScoringRules rules;
+        rules.dashed_coverage = params.dashed_coverage;
+        rules.yellowness = params.yellow_threshold;
         LaneDetector detector(params);
         Result result;
-        for (size_t run = 0; run < variants.size() * frames.size(); ++run) {  // every variant
-          const tools::RealVariant variant = variants[run / frames.size()];   // of every frame
-          tools::DatasetFrame f = frames[run % frames.size()];
-          tools::LabelledFrame variant_label = *tools::findRealLabel(labels, ds, f.name);
-          tools::applyRealVariant(variant, f, variant_label);
-          const tools::LabelledFrame* label = &variant_label;
-          detector.reset();  // unrelated snapshots
-          detector.detect(f.toFrame(), result);
-          Row row;
-          row.dataset = ds;
-          row.frame = f.name;
-          row.depth = f.depth_source;
-          row.variant = tools::realVariantName(variant);
-          row.label = variant_label;
-          row.mode = mode;
-          row.lane = label->lane;
-          row.ms = result.timings.total;
-          // reference plane: RANSAC on the LiDAR (or the sensor's) road points
-          Eigen::Vector3d n(0, -1, 0);
-          double d = 0.0;
-          const bool have_ref = f.referenceRoadPlane(n, d);
-          if (label->lane && !have_ref) {
-            std::cerr << "evaluate_real: no reference road plane for " << ds << "/" << f.name
-                      << ": its labels cannot be placed\n";
-            return 1;
-          }
-          row.score = tools::scoreRealFrame(result, *label, f.intrinsics, n, d);
-          row.plane = result.status == Status::kOk && result.plane.valid;
-          if (row.plane && have_ref) {
-            row.plane_angle =
-                std::acos(std::min(1.0, std::fabs(n.dot(result.plane.normal)))) * 180.0 / M_PI;
-            row.plane_offset = std::fabs(d - result.plane.distance);
-          }
-          rows.push_back(row);
-          if (!images.empty()) {
-            drawOverlay(f.colour, f.format, f.intrinsics, result, params, overlay);
-            // the labels, thin white
-            for (const tools::LabelledSide* s : {&label->left, &label->right}) {
-              if (!label->lane || !s->present) continue;
-              for (size_t i = 1; i < s->points.size(); ++i)
-                cv::line(overlay, s->points[i - 1], s->points[i], cv::Scalar(255, 255, 255), 1,
-                         cv::LINE_AA);
+        for (const tools::RealVariant variant : run_variants) {
+          if (sequence) detector.reset();  // a new drive
+          for (size_t i = 0; i < frames.size(); ++i) {
+            tools::DatasetFrame f = frames[i];
+            tools::LabelledFrame variant_label = frame_labels[i];
+            tools::applyRealVariant(variant, f, variant_label);
+            const tools::LabelledFrame* label = &variant_label;
+            if (!sequence) detector.reset();  // unrelated snapshots
+            Frame input = f.toFrame();
+            if (have_mount) {
+              input.has_vehicle_frame = true;
+              input.vehicle_from_camera = mount;
             }
-            const std::string name = "real_" + ds + "_" + f.name + "_" + f.depth_source +
-                                     (variant == tools::RealVariant::kAsIs
-                                          ? std::string()
-                                          : std::string("_") + row.variant) +
-                                     "_" + mode + ".jpg";
-            cv::imwrite((fs::path(images) / name).string(), overlay,
-                        {cv::IMWRITE_JPEG_QUALITY, 85});
+            detector.detect(input, result);
+            if (!has_label[i]) continue;  // a sequence's frame outside its labelled key frames
+            Row row;
+            row.dataset = ds;
+            row.frame = f.name;
+            row.depth = f.depth_source;
+            row.variant = tools::realVariantName(variant);
+            row.label = variant_label;
+            row.mode = mode;
+            row.sequence = sequence;
+            row.lane = label->lane;
+            row.ms = result.timings.total;
+            // reference plane: RANSAC on the LiDAR (or the sensor's) road points
+            Eigen::Vector3d n(0, -1, 0);
+            double d = 0.0;
+            row.have_reference = f.referenceRoadPlane(n, d);
+            if (label->lane && !row.have_reference) {
+              std::cerr << "evaluate_real: no reference road plane for " << ds << "/" << f.name
+                        << ": its labels cannot be placed\n";
+              return 1;
+            }
+            row.score = tools::scoreRealFrame(result, *label, f.intrinsics, n, d, rules);
+            row.plane = result.status == Status::kOk && result.plane.valid;
+            if (row.plane && row.have_reference) {
+              row.plane_angle =
+                  std::acos(std::min(1.0, std::fabs(n.dot(result.plane.normal)))) * 180.0 / M_PI;
+              row.plane_offset = std::fabs(d - result.plane.distance);
+            }
+            if (sequence && params.lane_model) {
+              const LaneModelEstimate& lm = result.lane_model;
+              row.model_valid = lm.valid;
+              Result model_sides;  // the model's ego boundaries as traces, scored like sides
+              modelBoundaryTrace(lm.at(BoundaryPosition::kEgoLeft), mount, model_sides.left);
+              modelBoundaryTrace(lm.at(BoundaryPosition::kEgoRight), mount, model_sides.right);
+              row.model = tools::scoreRealFrame(model_sides, *label, f.intrinsics, n, d, rules);
+              for (int side = 0; side < 2; ++side) {
+                const LaneBoundaryModel& b =
+                    lm.at(side == 0 ? BoundaryPosition::kEgoLeft : BoundaryPosition::kEgoRight);
+                if (lm.valid && b.valid) row.c0[side] = b.c[0];
+              }
+            }
+            rows.push_back(row);
+            if (!images.empty()) {
+              drawOverlay(f.colour, f.format, f.intrinsics, result, params, overlay);
+              // the labels, thin white
+              for (const tools::LabelledSide* s : {&label->left, &label->right}) {
+                if (!label->lane || !s->present) continue;
+                for (size_t k = 1; k < s->points.size(); ++k)
+                  cv::line(overlay, s->points[k - 1], s->points[k], cv::Scalar(255, 255, 255), 1,
+                           cv::LINE_AA);
+              }
+              std::string stem = ds;
+              std::replace(stem.begin(), stem.end(), '/', '_');
+              const std::string name = "real_" + stem + "_" + f.name + "_" + f.depth_source +
+                                       (variant == tools::RealVariant::kAsIs
+                                            ? std::string()
+                                            : std::string("_") + row.variant) +
+                                       "_" + mode + ".jpg";
+              const fs::path dir = sequence ? fs::path(images) / ("sequence_" + stem) : fs::path(images);
+              fs::create_directories(dir);
+              cv::imwrite((dir / name).string(), overlay, {cv::IMWRITE_JPEG_QUALITY, 85});
+            }
           }
         }
       }
     }
   }
 
-  // Markdown table
-  std::ostringstream md;
-  md << "| data | frame | depth | variant | mode | left (label / reported) | left | right (label / "
-        "reported) | right | plane vs LiDAR (deg / m) |\n";
-  md << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
-  int sides_labelled = 0, sides_right = 0, sides_wrong = 0, negatives = 0, negatives_clean = 0;
+  // Summary: per set (frame sets together, each sequence on its own), depth, variant and mode
+  struct Tally {
+    int frames = 0, labelled = 0, right = 0, wrong = 0, missed = 0, negatives = 0, clean = 0;
+    int style_scored = 0, style_right = 0, colour_scored = 0, colour_right = 0;
+    int planes = 0, planes_within = 0, planes_missing = 0;
+    int model_frames = 0, model_valid = 0, model_labelled = 0, model_right = 0, model_wrong = 0;
+    std::vector<double> jumps;
+    double ms = 0.0;
+  };
+  std::vector<std::pair<std::string, Tally>> tallies;
+  auto tallyOf = [&](const std::string& key) -> Tally& {
+    for (auto& t : tallies)
+      if (t.first == key) return t.second;
+    tallies.emplace_back(key, Tally());
+    return tallies.back().second;
+  };
+  const Row* previous = nullptr;
   for (const Row& r : rows) {
+    const std::string set = r.sequence ? r.dataset : std::string("frames");
+    Tally& t = tallyOf(set + " | " + r.depth + " | " + r.variant + " | " + r.mode);
+    ++t.frames;
+    t.ms += r.ms;
+    for (const tools::RealSideScore* s : {&r.score.left, &r.score.right}) {
+      t.labelled += s->labelled;
+      t.right += s->correct;
+      t.wrong += s->wrong;
+      t.missed += s->missed;
+      if (s->style_right >= 0) ++t.style_scored, t.style_right += s->style_right;
+      if (s->colour_right >= 0) ++t.colour_scored, t.colour_right += s->colour_right;
+    }
+    if (!r.lane) {
+      ++t.negatives;
+      t.clean += !r.score.wrong;
+    }
+    if (r.have_reference) {
+      ++t.planes;
+      if (!r.plane) ++t.planes_missing;
+      else t.planes_within += r.plane_angle <= 1.5;
+    }
+    if (r.sequence) {
+      ++t.model_frames;
+      t.model_valid += r.model_valid;
+      for (const tools::RealSideScore* s : {&r.model.left, &r.model.right}) {
+        t.model_labelled += s->labelled;
+        t.model_right += s->correct;
+        t.model_wrong += s->wrong;
+      }
+      if (previous && previous->sequence && previous->dataset == r.dataset &&
+          previous->depth == r.depth && previous->mode == r.mode)
+        for (int side = 0; side < 2; ++side)
+          if (std::isfinite(r.c0[side]) && std::isfinite(previous->c0[side]))
+            t.jumps.push_back(std::fabs(r.c0[side] - previous->c0[side]));
+    }
+    previous = &r;
+  }
+  auto pct = [](int a, int b) { return b ? fmt(100.0 * a / b, "%.0f%%") : std::string("-"); };
+  std::ostringstream md;
+  md << "| set | depth | variant | mode | frames | labelled sides | right | wrong | missed | "
+        "no-lane frames clean | solid/dashed right | colour right | plane within 1.5 deg | "
+        "lane model valid | model sides right / wrong | model c0 change p95 (m) | ms/frame |\n";
+  md << "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
+        "---: | ---: | ---: | ---: |\n";
+  for (auto& [key, t] : tallies) {
+    std::string p95 = "-";
+    if (!t.jumps.empty()) {
+      std::sort(t.jumps.begin(), t.jumps.end());
+      p95 = fmt(t.jumps[std::min(t.jumps.size() - 1,
+                                 static_cast<size_t>(std::ceil(0.95 * t.jumps.size())) - 1)],
+                "%.3f");
+    }
+    md << "| " << key << " | " << t.frames << " | " << t.labelled << " | " << t.right << " ("
+       << pct(t.right, t.labelled) << ") | " << t.wrong << " (" << pct(t.wrong, t.labelled)
+       << ") | " << t.missed << " | " << t.clean << " of " << t.negatives << " | "
+       << t.style_right << " of " << t.style_scored << " | " << t.colour_right << " of "
+       << t.colour_scored << " | " << t.planes_within << " of " << t.planes
+       << (t.planes_missing ? " (" + std::to_string(t.planes_missing) + " none)" : std::string())
+       << " | "
+       << (t.model_frames ? pct(t.model_valid, t.model_frames) : std::string("-")) << " | "
+       << (t.model_frames ? pct(t.model_right, t.model_labelled) + " / " +
+                                pct(t.model_wrong, t.model_labelled)
+                          : std::string("-"))
+       << " | " << p95 << " | " << fmt(t.ms / std::max(1, t.frames), "%.1f") << " |\n";
+  }
+  md << "\nPer frame (as recorded, each mode):\n\n";
+  md << "| data | frame | depth | mode | left (label / reported) | left | right (label / "
+        "reported) | right | plane vs LiDAR (deg / m) |\n";
+  md << "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  int sides_wrong = 0;
+  for (const Row& r : rows) {
+    sides_wrong += r.score.left.wrong + r.score.right.wrong;
+    if (r.variant != "as_is") continue;
     const tools::LabelledFrame* label = &r.label;
     const tools::LabelledSide none;
     const tools::LabelledSide& ll = label->lane ? label->left : none;
     const tools::LabelledSide& lr = label->lane ? label->right : none;
-    md << "| " << r.dataset << " | " << r.frame << " | " << r.depth << " | " << r.variant << " | "
-       << r.mode << " | "
+    md << "| " << r.dataset << " | " << r.frame << " | " << r.depth << " | " << r.mode << " | "
        << kindText(r.score.left, ll) << " | " << sideText(r.score.left) << " | "
        << kindText(r.score.right, lr) << " | " << sideText(r.score.right) << " | "
        << (r.plane ? fmt(r.plane_angle) + " / " + fmt(r.plane_offset, "%.3f") : "no plane")
        << " |\n";
-    for (const tools::RealSideScore* s : {&r.score.left, &r.score.right}) {
-      sides_labelled += s->labelled;
-      sides_right += s->correct;
-      sides_wrong += s->wrong;
-    }
-    if (!r.lane) {
-      ++negatives;
-      negatives_clean += !r.score.wrong;
-    }
   }
-  md << "\nLabelled sides reported right: " << sides_right << " of " << sides_labelled
-     << "; sides reported wrong: " << sides_wrong << "; frames without a lane that report "
-     << "nothing: " << negatives_clean << " of " << negatives << ".\n";
   std::cout << md.str();
   if (!markdown.empty()) std::ofstream(markdown) << md.str();
   if (!csv.empty()) {
     std::ofstream out(csv);
-    out << "dataset,frame,depth,variant,mode,lane,left_labelled,left_reported,left_kind,left_fraction,"
-           "left_correct,right_labelled,right_reported,right_kind,right_fraction,right_correct,"
-           "plane,plane_angle_deg,plane_offset_m,ms\n";
+    out << "dataset,frame,depth,variant,mode,sequence,lane,left_labelled,left_reported,left_kind,"
+           "left_fraction,left_correct,right_labelled,right_reported,right_kind,right_fraction,"
+           "right_correct,plane,plane_angle_deg,plane_offset_m,model_valid,model_left_correct,"
+           "model_right_correct,model_c0_left,model_c0_right,ms\n";
     for (const Row& r : rows) {
       out << r.dataset << "," << r.frame << "," << r.depth << "," << r.variant << "," << r.mode
-          << "," << r.lane;
+          << "," << r.sequence << "," << r.lane;
       for (const tools::RealSideScore* s : {&r.score.left, &r.score.right})
         out << "," << s->labelled << "," << s->reported << ","
             << (s->reported ? boundaryKindName(s->reported_kind) : "") << "," << fmt(s->fraction)
             << "," << s->correct;
       out << "," << r.plane << "," << fmt(r.plane_angle, "%.3f") << ","
-          << fmt(r.plane_offset, "%.4f") << "," << fmt(r.ms) << "\n";
+          << fmt(r.plane_offset, "%.4f") << "," << r.model_valid << "," << r.model.left.correct
+          << "," << r.model.right.correct << "," << fmt(r.c0[0], "%.3f") << ","
+          << fmt(r.c0[1], "%.3f") << "," << fmt(r.ms) << "\n";
     }
   }
   return sides_wrong == 0 ? 0 : 3;

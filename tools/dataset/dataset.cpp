@@ -47,6 +47,11 @@ void DatasetFrame::referenceRoadPoints(std::vector<Eigen::Vector3d>& points) con
 }
 
 bool DatasetFrame::referenceRoadPlane(Eigen::Vector3d& normal, double& distance) const {
+  if (has_road_plane) {
+    normal = road_plane_normal;
+    distance = road_plane_distance;
+    return true;
+  }
   std::vector<Eigen::Vector3d> points;
   referenceRoadPoints(points);
   return ransacPlane(points, 0.05, normal, distance);
@@ -58,6 +63,8 @@ std::string detectDatasetType(const std::string& path) {
   if (fs::is_regular_file(p, ec)) return p.extension() == ".bag" ? "bag" : "";
   if (!fs::is_directory(p, ec)) return "";
   if (fs::is_directory(p / "RGB/Stereo_Left/Omni_F", ec)) return "synthia";
+  if (fs::is_directory(p / "zed_left", ec) && fs::is_directory(p / "lidar_depth", ec))
+    return "stereo_lidar";
   if (fs::exists(p / "associations.txt", ec) ||
       (fs::exists(p / "rgb.txt", ec) && fs::exists(p / "depth.txt", ec)))
     return "tum";
@@ -76,7 +83,10 @@ std::string detectDatasetType(const std::string& path) {
        fs::is_directory(p / "image_3", ec)))
     return "kitti";
   if (depth_frames) return "tum_frames";
-  return stereo_frames ? "kitti" : "";
+  if (stereo_frames) return "kitti";
+  for (const auto& e : fs::directory_iterator(p, ec))  // a folder of frame folders
+    if (e.is_directory(ec) && fs::exists(e.path() / "calib.yaml", ec)) return "streets";
+  return "";
 }
 
 std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::string& error) {
@@ -99,21 +109,26 @@ std::unique_ptr<DatasetReader> openDataset(const DatasetOptions& options, std::s
     if (type.empty()) {
       error = "cannot tell the format of " + options.path +
               " (expected a SYNTHIA-SEQS, TUM or KITTI folder, numbered N.png + N_depth.png "
-              "frames, or a .bag file); use --type";
+              "frames, a folder of street frame folders (calib.yaml each), a stereo_lidar "
+              "sequence (zed_left/, lidar_depth/), or a .bag file); use --type";
       return nullptr;
     }
   }
-  if (options.depth == "sgbm" && type != "kitti") {
+  if (options.depth == "sgbm" && type != "kitti" && type != "streets" && type != "stereo_lidar") {
     error = "depth sgbm needs a colour stereo pair: a KITTI folder (<id>_left.png + "
-            "<id>_right.png, or image_2/ + image_3/), not a " + type + " dataset";
+            "<id>_right.png, or image_2/ + image_3/), street frames with right.png or a "
+            "stereo_lidar sequence, not a " + type + " dataset";
     return nullptr;
   }
   if (type == "synthia") return internal::openSynthia(options, error);
   if (type == "tum") return internal::openTum(options, error);
   if (type == "tum_frames") return internal::openTumFrames(options, error);
   if (type == "kitti") return internal::openKitti(options, error);
+  if (type == "streets") return internal::openStreets(options, error);
+  if (type == "stereo_lidar") return internal::openStereoLidarSequence(options, error);
   if (type == "bag") return internal::openBag(options, error);
-  error = "unknown dataset type '" + type + "' (auto, synthia, tum, tum_frames, kitti, bag)";
+  error = "unknown dataset type '" + type +
+          "' (auto, synthia, tum, tum_frames, kitti, streets, stereo_lidar, bag)";
   return nullptr;
 }
 

@@ -42,7 +42,7 @@ bool buildParams(const ParamChoice& choice, Params& params, std::string& error) 
 }
 
 void addDatasetOptions(CommandLine& cl, DatasetOptions& o) {
-  cl.add("type", "dataset format: auto (default), synthia, tum, tum_frames, kitti, bag", &o.type);
+  cl.add("type", "dataset format: auto (default), synthia, tum, tum_frames, kitti, streets, stereo_lidar, bag", &o.type);
   cl.add("camera-info", "camera_info YAML overriding the dataset's intrinsics", &o.camera_info);
   cl.add("depth-scale", "metres per unit of 16-bit depth (default: the format's)", &o.depth_scale);
   cl.add("first", "first frame position to use", &o.first);

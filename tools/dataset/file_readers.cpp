@@ -1,14 +1,19 @@
 // Folder datasets: SYNTHIA-SEQS, TUM RGB-D (associations or rgb/depth lists), numbered TUM
-// frames (N.png + N_depth.png) and KITTI stereo frames with LiDAR disparity or depth, or with
-// depth from their colour stereo pair (StereoSGBM).
+// frames (N.png + N_depth.png), KITTI stereo frames with LiDAR disparity or depth, or with
+// depth from their colour stereo pair (StereoSGBM), the street corpus (one folder per frame with
+// its own calibration) and RADIATE-style stereo + LiDAR sequences.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "readers_internal.h"
 
@@ -30,6 +35,14 @@ struct FileEntry {
   double stamp = 0.0;
   DepthEncoding encoding = DepthEncoding::kUint16;
   std::string right;  // right colour image of a stereo pair (KITTI), or empty
+  // a frame with its own calibration (the street corpus): used instead of the reader's
+  bool own_calibration = false;
+  Intrinsics K;
+  double baseline = 0.0;
+  cv::Mat distortion;  // OpenCV k1, k2, p1, p2, k3 of a raw image (undistorted when read), or empty
+  bool has_road_plane = false;  // the dataset's own road plane (n up, optical frame)
+  Eigen::Vector3d road_normal = Eigen::Vector3d(0.0, -1.0, 0.0);
+  double road_distance = 0.0;
 };
 
 bool allDigits(const std::string& s) {
@@ -53,22 +66,25 @@ class FileSequenceReader : public DatasetReader {
   int size() const override { return static_cast<int>(entries_.size()); }
   std::string groundTruthPath() const override { return gt_; }
   bool independentFrames() const override {
-    return std::string(kind_) == "kitti" || std::string(kind_) == "tum_frames";
+    const std::string k = kind_;
+    return k == "kitti" || k == "tum_frames" || k == "streets";
   }
 
   bool next(DatasetFrame& f) override {
     if (pos_ >= entries_.size()) return false;
     const FileEntry& e = entries_[pos_++];
+    const Intrinsics& K = e.own_calibration ? e.K : K_;
+    const double baseline = e.own_calibration ? e.baseline : baseline_;
     try {
       f.colour = cv::imread(e.colour, cv::IMREAD_COLOR);
       if (f.colour.empty()) return fail("cannot read colour image " + e.colour);
       f.lidar_depth.release();
-      if (!e.depth.empty() && !readDepth(e, f)) return false;
+      if (!e.depth.empty() && !readDepth(e, K, baseline, f)) return false;
       if (stereo_) {
         const cv::Mat right = cv::imread(e.right, cv::IMREAD_COLOR);
         if (right.empty()) return fail("cannot read right image " + e.right);
         f.depth = cv::Mat();  // a new image: f.depth may share the LiDAR depth's pixels
-        if (const char* problem = stereo_->depth(f.colour, right, K_.fx, baseline_, f.depth))
+        if (const char* problem = stereo_->depth(f.colour, right, K.fx, baseline, f.depth))
           return fail(std::string(problem) + ": " + e.colour + " / " + e.right);
         f.depth_scale = 1.0;
         f.depth_source = "sgbm";
@@ -80,9 +96,14 @@ class FileSequenceReader : public DatasetReader {
       return fail("colour and depth differ in size: " + e.colour + " / " + e.depth);
     if (!f.lidar_depth.empty() && f.lidar_depth.size() != f.colour.size())
       return fail("colour and LiDAR depth differ in size: " + e.colour + " / " + e.depth);
-    f.baseline = baseline_;
+    f.distortion = e.distortion;
+    f.has_road_plane = e.has_road_plane;
+    f.road_plane_normal = e.road_normal;
+    f.road_plane_distance = e.road_distance;
+    if (!e.distortion.empty()) undistortFrame(K, f);
+    f.baseline = baseline;
     f.format = PixelFormat::kBgr8;
-    f.intrinsics = K_;
+    f.intrinsics = K;
     f.index = e.index;
     f.name = e.name;
     f.stamp = e.stamp;
@@ -90,15 +111,38 @@ class FileSequenceReader : public DatasetReader {
   }
 
  private:
+  // A raw image and the depth projected through its distortion, undistorted once to the
+  // pinhole @p K (the detector reads rectified images): colour bilinear, depth nearest (the Z
+  // of a point does not change; no depth is blended across an edge).
+  static void undistortFrame(const Intrinsics& K, DatasetFrame& f) {
+    const cv::Matx33d k(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
+    cv::Mat map1, map2;
+    cv::initUndistortRectifyMap(k, f.distortion, cv::noArray(), k, f.colour.size(), CV_32FC1,
+                                map1, map2);
+    auto undistortDepth = [&](cv::Mat& d) {
+      cv::Mat out;
+      cv::remap(d, out, map1, map2, cv::INTER_NEAREST, cv::BORDER_CONSTANT,
+                cv::Scalar::all(d.depth() == CV_32F ? std::nan("") : 0.0));
+      d = out;
+    };
+    cv::Mat colour;
+    cv::remap(f.colour, colour, map1, map2, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    f.colour = colour;
+    const bool shared = f.lidar_depth.data == f.depth.data;
+    undistortDepth(f.depth);
+    if (shared) f.lidar_depth = f.depth;
+    else if (!f.lidar_depth.empty()) undistortDepth(f.lidar_depth);
+  }
+
   // The entry's depth file into f.depth (and f.lidar_depth for KITTI's LiDAR).
-  bool readDepth(const FileEntry& e, DatasetFrame& f) {
+  bool readDepth(const FileEntry& e, const Intrinsics& K, double baseline, DatasetFrame& f) {
     cv::Mat raw = cv::imread(e.depth, cv::IMREAD_UNCHANGED);
     if (raw.empty()) return fail("cannot read depth image " + e.depth);
     if (raw.depth() != CV_16U) return fail("depth image is not 16-bit: " + e.depth);
     if (raw.channels() > 1) cv::extractChannel(raw, raw, 0);  // SYNTHIA: same value in 3
     switch (e.encoding) {
       case DepthEncoding::kKittiDisparity:
-        kittiDisparityToDepth(raw, K_.fx, baseline_, f.depth);
+        kittiDisparityToDepth(raw, K.fx, baseline, f.depth);
         f.depth_scale = 1.0;
         break;
       case DepthEncoding::kKittiDepth:
@@ -343,6 +387,140 @@ std::unique_ptr<DatasetReader> openKitti(const DatasetOptions& o, std::string& e
   }
   if (!applyCameraInfo(o, K, error)) return nullptr;
   return std::make_unique<FileSequenceReader>("kitti", entries, o, K, 1.0, baseline,
+                                              std::string());
+}
+
+std::unique_ptr<DatasetReader> openStreets(const DatasetOptions& o, std::string& error) {
+  // ../shared/realdata/streets: one folder per frame, each with image.png or image.jpg,
+  // depth.png (uint16, value / 256 m, 0 none: LiDAR projected into the image), calib.yaml (its
+  // own intrinsics, the distortion of a raw image, the baseline of a stereo rig) and, for a
+  // stereo rig, right.png
+  const fs::path root(o.path);
+  const bool sgbm = o.depth == "sgbm";
+  std::vector<FileEntry> entries;
+  std::error_code ec;
+  std::vector<fs::path> folders;
+  for (const auto& d : fs::directory_iterator(root, ec))
+    if (d.is_directory(ec) && fs::exists(d.path() / "calib.yaml", ec)) folders.push_back(d.path());
+  std::sort(folders.begin(), folders.end());
+  for (const fs::path& dir : folders) {
+    FileEntry e;
+    e.name = dir.filename().string();
+    for (const char* n : {"image.png", "image.jpg"})
+      if (fs::exists(dir / n, ec)) e.colour = (dir / n).string();
+    e.depth = fs::exists(dir / "depth.png", ec) ? (dir / "depth.png").string() : "";
+    e.right = fs::exists(dir / "right.png", ec) ? (dir / "right.png").string() : "";
+    e.encoding = DepthEncoding::kKittiDepth;
+    if (e.colour.empty() || e.depth.empty() || (sgbm && e.right.empty())) continue;
+    try {
+      const YAML::Node c = YAML::LoadFile((dir / "calib.yaml").string());
+      e.K = Intrinsics{c["fx"].as<double>(), c["fy"].as<double>(), c["cx"].as<double>(),
+                       c["cy"].as<double>()};
+      e.baseline = c["baseline_m"] ? c["baseline_m"].as<double>() : 0.0;
+      // distortion terms given (a raw image); "rectified: unknown" without terms is a pinhole
+      if (c["distortion"] && c["distortion"]["D"]) {
+        const auto D = c["distortion"]["D"].as<std::vector<double>>();
+        if (std::any_of(D.begin(), D.end(), [](double v) { return v != 0.0; }))
+          e.distortion = cv::Mat(D, true).reshape(1, 1);
+      }
+      if (c["road_plane"] && c["road_plane"]["n"] && c["road_plane"]["d"]) {
+        const auto n = c["road_plane"]["n"].as<std::vector<double>>();
+        if (n.size() == 3) {
+          e.road_normal = Eigen::Vector3d(n[0], n[1], n[2]).normalized();
+          e.road_distance = c["road_plane"]["d"].as<double>();
+          e.has_road_plane = e.road_normal.allFinite() && std::isfinite(e.road_distance);
+        }
+      }
+    } catch (const YAML::Exception& ex) {
+      error = "street folder " + dir.string() + ": unreadable calib.yaml: " + ex.what();
+      return nullptr;
+    }
+    if (!e.K.valid()) {
+      error = "street folder " + dir.string() + ": calib.yaml has no valid fx, fy, cx, cy";
+      return nullptr;
+    }
+    e.own_calibration = true;
+    entries.push_back(e);
+  }
+  if (entries.empty()) {
+    error = "street corpus " + o.path +
+            (sgbm ? ": no frame folder with image, depth.png, right.png and calib.yaml"
+                  : ": no frame folder with image.png/jpg, depth.png and calib.yaml");
+    return nullptr;
+  }
+  for (size_t i = 0; i < entries.size(); ++i) {
+    entries[i].index = static_cast<int>(i);
+    entries[i].stamp = static_cast<double>(i);
+  }
+  return std::make_unique<FileSequenceReader>("streets", entries, o, Intrinsics(), 1.0, 0.0,
+                                              std::string());
+}
+
+std::unique_ptr<DatasetReader> openStereoLidarSequence(const DatasetOptions& o,
+                                                       std::string& error) {
+  // RADIATE-style sequence: zed_left/NNNNNN.png, zed_right/NNNNNN.png (rectified),
+  // lidar_depth/NNNNNN.png (value / 256 m, 0 none), rectification.yaml (P1, P2) and the camera
+  // stamps in frame_to_lidar.txt (so the frames run at their own rate)
+  const fs::path root(o.path);
+  const bool sgbm = o.depth == "sgbm";
+  cv::Mat P1, P2;
+  try {
+    cv::FileStorage fs((root / "rectification.yaml").string(), cv::FileStorage::READ);
+    if (fs.isOpened()) {
+      fs["P1"] >> P1;
+      fs["P2"] >> P2;
+    }
+  } catch (const cv::Exception&) {
+  }
+  if (P1.rows != 3 || P1.cols != 4 || P2.rows != 3 || P2.cols != 4) {
+    error = "stereo sequence " + o.path + ": rectification.yaml has no 3x4 P1 and P2";
+    return nullptr;
+  }
+  P1.convertTo(P1, CV_64F);
+  P2.convertTo(P2, CV_64F);
+  const Intrinsics K{P1.at<double>(0, 0), P1.at<double>(1, 1), P1.at<double>(0, 2),
+                     P1.at<double>(1, 2)};
+  const double baseline = -P2.at<double>(0, 3) / P2.at<double>(0, 0);
+  std::map<std::string, double> stamps;
+  {
+    std::ifstream in(root / "frame_to_lidar.txt");
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      std::istringstream ss(line);
+      std::string name;
+      double t;
+      if (ss >> name >> t) stamps[name] = t;
+    }
+  }
+  std::vector<FileEntry> entries;
+  std::error_code ec;
+  for (const auto& p : listFiles(root / "zed_left", ".png")) {
+    FileEntry e;
+    e.colour = p.string();
+    e.name = p.stem().string();
+    e.depth = (root / "lidar_depth" / p.filename()).string();
+    e.right = (root / "zed_right" / p.filename()).string();
+    e.encoding = DepthEncoding::kKittiDepth;
+    if (!fs::exists(e.depth, ec) || (sgbm && !fs::exists(e.right, ec))) continue;
+    entries.push_back(e);
+  }
+  if (entries.empty()) {
+    error = "stereo sequence " + o.path + ": no zed_left/N.png with lidar_depth/N.png";
+    return nullptr;
+  }
+  sortEntries(entries);
+  const double fps = 15.0;  // when frame_to_lidar.txt does not give the stamps
+  const double t0 = stamps.count(entries[0].name) ? stamps[entries[0].name] : 0.0;
+  for (size_t i = 0; i < entries.size(); ++i) {
+    entries[i].index =
+        allDigits(entries[i].name) ? std::stoi(entries[i].name) : static_cast<int>(i);
+    const auto it = stamps.find(entries[i].name);
+    entries[i].stamp = it != stamps.end() ? it->second - t0 : i / fps;
+  }
+  Intrinsics Ko = K;
+  if (!applyCameraInfo(o, Ko, error)) return nullptr;
+  return std::make_unique<FileSequenceReader>("stereo_lidar", entries, o, Ko, 1.0, baseline,
                                               std::string());
 }
 

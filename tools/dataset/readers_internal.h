@@ -14,6 +14,8 @@ std::unique_ptr<DatasetReader> openSynthia(const DatasetOptions& o, std::string&
 std::unique_ptr<DatasetReader> openTum(const DatasetOptions& o, std::string& error);
 std::unique_ptr<DatasetReader> openTumFrames(const DatasetOptions& o, std::string& error);
 std::unique_ptr<DatasetReader> openKitti(const DatasetOptions& o, std::string& error);
+std::unique_ptr<DatasetReader> openStreets(const DatasetOptions& o, std::string& error);
+std::unique_ptr<DatasetReader> openStereoLidarSequence(const DatasetOptions& o, std::string& error);
 std::unique_ptr<DatasetReader> openBag(const DatasetOptions& o, std::string& error);
 
 /// Intrinsics override from DatasetOptions::camera_info (no-op when empty).

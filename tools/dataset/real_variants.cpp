@@ -66,6 +66,7 @@ void applyRealVariant(RealVariant v, DatasetFrame& frame, LabelledFrame& label) 
       frame.depth = flipped(frame.depth);
       frame.lidar_depth = flipped(frame.lidar_depth);
       frame.intrinsics.cx = width - 1 - frame.intrinsics.cx;
+      frame.road_plane_normal.x() = -frame.road_plane_normal.x();
       for (LabelledSide* s : {&label.left, &label.right})
         for (cv::Point2d& p : s->points) p.x = width - 1 - p.x;
       std::swap(label.left, label.right);

@@ -1,6 +1,11 @@
 #include "rgbd_lane_detector_tools/real_labels.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
+
+#include <opencv2/calib3d.hpp>
 
 #include "rgbd_lane_detector_tools/scoring.h"
 
@@ -21,6 +26,22 @@ bool readSide(const cv::FileNode& node, const std::string& where, LabelledSide& 
   } else {
     error = where + ": unknown kind '" + kind + "' (paint, road_edge or none)";
     return false;
+  }
+  const std::string style = static_cast<std::string>(node["style"]);
+  const std::string colour = static_cast<std::string>(node["colour"]);
+  if (side.kind == BoundaryKind::kPaint) {
+    if (style == "solid") side.style = rgbd_lane_detector::LineKind::kSolid;
+    else if (style == "dashed") side.style = rgbd_lane_detector::LineKind::kDashed;
+    else if (!style.empty()) {
+      error = where + ": unknown style '" + style + "' (solid or dashed)";
+      return false;
+    }
+    if (colour == "white") side.colour = rgbd_lane_detector::LineColour::kWhite;
+    else if (colour == "yellow") side.colour = rgbd_lane_detector::LineColour::kYellow;
+    else if (!colour.empty()) {
+      error = where + ": unknown colour '" + colour + "' (white or yellow)";
+      return false;
+    }
   }
   const cv::FileNode pts = node["points"];
   if (!pts.isSeq() || pts.size() < 4 || pts.size() % 2 != 0) {
@@ -51,6 +72,16 @@ void scoreSide(const MarkerTrace& m, const LabelledSide& label, const std::vecto
     s.on_line = s.points >= rules.min_points && s.fraction >= rules.min_fraction;
     s.correct = s.on_line && m.kind == label.kind;
   }
+  if (s.reported && m.kind == BoundaryKind::kPaint) {
+    if (m.paint_coverage >= 0.0f)
+      s.reported_style = m.paint_coverage < rules.dashed_coverage ? rgbd_lane_detector::LineKind::kDashed : rgbd_lane_detector::LineKind::kSolid;
+    if (m.yellowness >= 0.0f)
+      s.reported_colour = m.yellowness >= rules.yellowness ? rgbd_lane_detector::LineColour::kYellow : rgbd_lane_detector::LineColour::kWhite;
+  }
+  if (s.correct && label.kind == BoundaryKind::kPaint) {
+    if (label.style != rgbd_lane_detector::LineKind::kUnknown) s.style_right = s.reported_style == label.style;
+    if (label.colour != rgbd_lane_detector::LineColour::kUnknown) s.colour_right = s.reported_colour == label.colour;
+  }
   s.wrong = s.reported && !s.correct;
   s.missed = s.labelled && !s.reported;
 }
@@ -80,6 +111,7 @@ bool readRealLabels(const std::string& path, std::vector<LabelledFrame>& labels,
     f.dataset = static_cast<std::string>(node["dataset"]);
     f.frame = static_cast<std::string>(node["frame"]);
     f.lane = static_cast<int>(node["lane"]) != 0;
+    f.key = !node["key"].empty() && static_cast<int>(node["key"]) != 0;
     const std::string where = path + " (" + f.dataset + "/" + f.frame + ")";
     if (f.dataset.empty() || f.frame.empty()) {
       error = path + ": a frame without dataset or frame name";
@@ -102,6 +134,82 @@ const LabelledFrame* findRealLabel(const std::vector<LabelledFrame>& labels,
   for (const auto& l : labels)
     if (l.dataset == dataset && l.frame == frame) return &l;
   return nullptr;
+}
+
+double polylineXAt(const std::vector<cv::Point2d>& line, double y) {
+  for (size_t i = 1; i < line.size(); ++i) {
+    const cv::Point2d& a = line[i - 1];
+    const cv::Point2d& b = line[i];
+    if ((y - a.y) * (y - b.y) > 0.0) continue;  // not between the two rows
+    if (a.y == b.y) return 0.5 * (a.x + b.x);
+    return a.x + (b.x - a.x) * (y - a.y) / (b.y - a.y);
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+namespace {
+
+bool numbered(const std::string& s, long& n) {
+  if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos) return false;
+  n = std::strtol(s.c_str(), nullptr, 10);
+  return true;
+}
+
+LabelledSide interpolateSide(const LabelledSide& a, const LabelledSide& b, double t) {
+  if (!a.present || !b.present || a.kind != b.kind) return t < 0.5 ? a : b;
+  std::vector<double> rows;
+  for (const auto* s : {&a, &b})
+    for (const auto& q : s->points) rows.push_back(q.y);
+  std::sort(rows.begin(), rows.end(), std::greater<double>());  // near (bottom) to far
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  LabelledSide out = t < 0.5 ? a : b;
+  out.points.clear();
+  for (double y : rows) {
+    const double xa = polylineXAt(a.points, y), xb = polylineXAt(b.points, y);
+    if (std::isfinite(xa) && std::isfinite(xb)) out.points.emplace_back(xa + t * (xb - xa), y);
+  }
+  if (out.points.size() < 2) return t < 0.5 ? a : b;
+  return out;
+}
+
+}  // namespace
+
+bool realLabelOf(const std::vector<LabelledFrame>& labels, const std::string& dataset,
+                 const std::string& frame, LabelledFrame& label) {
+  if (const LabelledFrame* own = findRealLabel(labels, dataset, frame)) {
+    label = *own;
+    return true;
+  }
+  long n = 0;
+  if (!numbered(frame, n)) return false;
+  const LabelledFrame *before = nullptr, *after = nullptr;
+  long nb = 0, na = 0;
+  for (const auto& l : labels) {
+    long k = 0;
+    if (l.dataset != dataset || !l.key || !numbered(l.frame, k)) continue;
+    if (k < n && (!before || k > nb)) before = &l, nb = k;
+    if (k > n && (!after || k < na)) after = &l, na = k;
+  }
+  if (!before || !after) return false;
+  const double t = static_cast<double>(n - nb) / static_cast<double>(na - nb);
+  label = t < 0.5 ? *before : *after;
+  label.frame = frame;
+  label.key = false;
+  label.lane = before->lane && after->lane;
+  label.left = interpolateSide(before->left, after->left, t);
+  label.right = interpolateSide(before->right, after->right, t);
+  return true;
+}
+
+void undistortLabel(const Intrinsics& K, const cv::Mat& distortion, LabelledFrame& label) {
+  if (distortion.empty()) return;
+  const cv::Matx33d k(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
+  for (LabelledSide* s : {&label.left, &label.right}) {
+    if (s->points.empty()) continue;
+    std::vector<cv::Point2d> out;
+    cv::undistortPoints(s->points, out, k, distortion, cv::noArray(), k);
+    s->points = out;
+  }
 }
 
 void labelOnPlane(const LabelledSide& side, const Intrinsics& K, const Eigen::Vector3d& normal,

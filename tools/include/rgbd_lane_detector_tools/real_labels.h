@@ -29,6 +29,8 @@ namespace tools {
 struct LabelledSide {
   bool present = false;                ///< the side has a boundary
   BoundaryKind kind = BoundaryKind::kPaint;
+  rgbd_lane_detector::LineKind style = rgbd_lane_detector::LineKind::kUnknown;        ///< paint: kSolid or kDashed (kUnknown: not labelled)
+  rgbd_lane_detector::LineColour colour = rgbd_lane_detector::LineColour::kUnknown;   ///< paint: kWhite or kYellow (kUnknown: not labelled)
   std::vector<cv::Point2d> points;     ///< image polyline (left colour image pixels), near to far
 };
 
@@ -37,6 +39,7 @@ struct LabelledFrame {
   std::string dataset;  ///< folder name under the real-data root (kitti2015, tum_office, ...)
   std::string frame;    ///< frame name as the dataset reader names it (000000_10, 1, ...)
   bool lane = false;    ///< the frame shows a lane (false: every reported side is wrong)
+  bool key = false;     ///< a key frame of a sequence (frames between keys are interpolated)
   LabelledSide left, right;
 };
 
@@ -53,6 +56,27 @@ const LabelledFrame* findRealLabel(const std::vector<LabelledFrame>& labels,
                                    const std::string& dataset, const std::string& frame);
 
 /**
+ * @brief The label of @p frame: its own, or for a numbered frame between two key frames of
+ * @p dataset (key: 1) the two keys interpolated linearly per image row.
+ *
+ * A side is interpolated on the rows both keys cover (each key's polyline read at the rows of
+ * both); a side labelled in one key and not in the other takes the nearer key's. Frames outside
+ * the key range, or of a dataset without key frames, have no label.
+ * @return false when there is none.
+ */
+bool realLabelOf(const std::vector<LabelledFrame>& labels, const std::string& dataset,
+                 const std::string& frame, LabelledFrame& label);
+
+/// x of an image polyline at row @p y (linear between its points); NaN outside its rows.
+double polylineXAt(const std::vector<cv::Point2d>& line, double y);
+
+/**
+ * @brief Points given in the pixels of a raw (distorted) image moved to the undistorted pinhole
+ * image of @p K (cv::undistortPoints); no-op for an empty @p distortion.
+ */
+void undistortLabel(const Intrinsics& K, const cv::Mat& distortion, LabelledFrame& label);
+
+/**
  * @brief A labelled image polyline on a road plane: each point's ray met with the plane.
  * @param[in] side labelled side.
  * @param[in] K intrinsics of the labelled image.
@@ -64,6 +88,8 @@ void labelOnPlane(const LabelledSide& side, const Intrinsics& K, const Eigen::Ve
 
 /// How one reported or labelled side fared.
 struct RealSideScore {
+  rgbd_lane_detector::LineKind reported_style = rgbd_lane_detector::LineKind::kUnknown;      ///< paint: solid or dashed as reported
+  rgbd_lane_detector::LineColour reported_colour = rgbd_lane_detector::LineColour::kUnknown; ///< paint: white or yellow as reported
   bool labelled = false;    ///< the label has this side
   bool reported = false;    ///< the detector reports it
   BoundaryKind reported_kind = BoundaryKind::kPaint;
@@ -74,6 +100,9 @@ struct RealSideScore {
   bool correct = false;     ///< reported, on its line, of the labelled kind
   bool wrong = false;       ///< reported and not correct
   bool missed = false;      ///< labelled and not reported
+  /// correct paint with a labelled style / colour: whether the reported one is the labelled one
+  /// (-1: not scored)
+  int style_right = -1, colour_right = -1;
 };
 
 /// Score of one real frame.
@@ -88,6 +117,10 @@ struct RealScoringRules {
   int min_points = 5;
   double min_fraction = 0.8;
   double max_lateral = 0.30;
+  /// a trace's paint coverage below this is dashed, its yellowness at or above this yellow (the
+  /// detector's Params::dashed_coverage and yellow_threshold)
+  double dashed_coverage = 0.7;
+  double yellowness = 0.25;
 };
 
 /**

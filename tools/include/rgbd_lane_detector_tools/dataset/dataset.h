@@ -41,6 +41,16 @@ struct DatasetFrame {
   cv::Mat lidar_depth;
   double lidar_depth_scale = 1.0;
   double baseline = 0.0;      ///< stereo baseline (m) of a stereo dataset (KITTI), else 0
+  /// Distortion (OpenCV k1, k2, p1, p2, k3) of the image as stored, when it is raw: colour and
+  /// depth here are already undistorted to @ref intrinsics; empty for rectified images. Points
+  /// given in the stored image's pixels (hand labels) go through cv::undistortPoints with it.
+  cv::Mat distortion;
+  /// The dataset's own road plane n . p + d = 0 (optical frame, n up) when it ships one (the
+  /// street corpus's calib.yaml: RANSAC on the LiDAR road points 2-25 m ahead within 3.5 m of the
+  /// optical axis); referenceRoadPlane() returns it instead of fitting one.
+  bool has_road_plane = false;
+  Eigen::Vector3d road_plane_normal = Eigen::Vector3d(0.0, -1.0, 0.0);
+  double road_plane_distance = 0.0;
   std::string depth_source = "sensor";  ///< "lidar", "sgbm" or "sensor" (RGB-D camera, renderer)
   /// The frame as the detector's input (headers onto this frame's images).
   Frame toFrame() const;
@@ -58,8 +68,8 @@ struct DatasetFrame {
    */
   void referenceRoadPoints(std::vector<Eigen::Vector3d>& points) const;
   /**
-   * @brief RANSAC plane (5 cm inliers) of referenceRoadPoints(): the plane a detected road plane
-   * and hand labels are checked against.
+   * @brief The plane a detected road plane and hand labels are checked against: the dataset's
+   * own (has_road_plane), else a RANSAC plane (5 cm inliers) of referenceRoadPoints().
    * @return false when the depth shows no plane there.
    */
   bool referenceRoadPlane(Eigen::Vector3d& normal, double& distance) const;
@@ -68,7 +78,7 @@ struct DatasetFrame {
 /// How to open a dataset.
 struct DatasetOptions {
   std::string path;           ///< folder or .bag file
-  std::string type = "auto";  ///< auto, synthia, tum, tum_frames, kitti, bag
+  std::string type = "auto";  ///< auto, synthia, tum, tum_frames, kitti, streets, stereo_lidar, bag
   std::string camera_info;    ///< camera_info YAML overriding the intrinsics (optional)
   double depth_scale = 0.0;   ///< metres per unit of 16-bit depth; 0: the format's default
   std::string colour_topic = "rgb/image_rect_color";  ///< bag topics (suffix match)
