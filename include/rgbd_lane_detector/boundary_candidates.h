@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -136,6 +137,22 @@ class BoundaryCandidateFinder {
   /// A tracked painted side is also sought where its model predicts it, row by row: the
   /// template's seeds can miss a line whose image angle changes fast (a lane change).
   void followPredictedLines(const CandidateFrame& f);
+  /// A seed whose trace is too short to tell what it is (a short dash far ahead, a dash whose
+  /// matched blob gave no usable angle): the line through it along the road ahead, followed row
+  /// by row across the dash gaps (BoundaryClassifier::followLine). False when no line is found.
+  bool followFromSeed(const CandidateFrame& f, MarkerTrace& m);
+  /// A followed painted line (input pixels, near to far) is one stroke of paint shorter than any
+  /// lane line shows (a turn arrow's shaft, a stop line's stub): paint on a single stretch of
+  /// road under 8 m, where a dashed line shows two dashes and a solid line more length.
+  bool loneStroke(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels) const;
+  /// Stretches of a followed line (input pixels, near to far) separated by more than @p gap
+  /// metres of road without a row found; @p extent: metres from its nearest to its farthest row,
+  /// @p painted: metres of it the stretches cover; rows beyond @p max_forward are not counted.
+  int paintStretches(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels, double gap,
+                     double* extent = nullptr, double* painted = nullptr,
+                     double max_forward = std::numeric_limits<double>::infinity()) const;
+  /// A narrow band taken for a rail head that comes in dashes when followed: worn paint.
+  void dashedNarrowLine(const CandidateFrame& f, int side, BoundaryCandidate& c);
   /// Road edges the depth shows (RoadEdgeFinder) that no traced line found.
   void addRoadEdgesFromDepth(const CandidateFrame& f);
   /// The next free candidate of @p side (the array grows on the first frames only).
@@ -155,6 +172,8 @@ class BoundaryCandidateFinder {
   std::vector<cv::Point2f> trace_pixels_;
   std::vector<float> trace_scores_;
   std::vector<Eigen::Vector3f> samples_;
+  std::vector<cv::Point2f> seed_pixels_;       ///< followFromSeed()'s line
+  std::vector<Eigen::Vector3f> seed_points_;
   std::vector<int> band_lo_, band_hi_;
 };
 

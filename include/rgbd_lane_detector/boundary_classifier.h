@@ -89,6 +89,24 @@ class BoundaryClassifier {
                 const Params& p, BoundaryEvidence& ev);
 
   /**
+   * @brief Cut a line where it runs into an object: from the first pixel (near to far) at which
+   * the line, or the road beside it on the vehicle's side, reads depth well above the road on two
+   * of three measured pixels (a vehicle ahead over the line), when the line lies on the road up
+   * to there.
+   * @param[in] in frame views.
+   * @param[in,out] pixels the line (input pixels), near to far.
+   * @param[in] left side of the vehicle the line is on.
+   * @param[in] p thresholds (kerb_height).
+   * @return true when the line was cut.
+   */
+  bool cutAtObject(const ClassifierInput& in, std::vector<cv::Point2f>& pixels, bool left,
+                   const Params& p);
+
+  /// A bright band much wider than paint just beyond the far end of a painted line (input
+  /// pixels, near to far): the line is the shaft of a lane arrow.
+  bool arrowHead(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels, const Params& p);
+
+  /**
    * @brief Follow a painted line row by row: on every image row from the bottom of the image
    * (or the road's nearest visible row) to the far end of the line, the centre of the bright band
    * near the line's predicted column (sub-pixel, brightness-weighted over the band at half its
@@ -165,6 +183,7 @@ class BoundaryClassifier {
  private:
   /// Height above the road of the depth at an input pixel (NaN without depth).
   float heightAt(const ClassifierInput& in, int u, int v) const;
+
   /// Depth point (optical frame) at an input pixel, NaN without depth.
   Eigen::Vector3f pointAt(const ClassifierInput& in, int u, int v) const;
   /**
@@ -216,7 +235,9 @@ class BoundaryClassifier {
   std::vector<Band> bands_;
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
   std::vector<float> yellow_;  ///< measurePaint(): yellowness per row (measureRow() uses side_)
-  std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner
+  std::vector<signed char> object_;  ///< cutAtObject(): per pixel 1 object, 0 road, 2 off, -1 none
+  std::vector<float> pair_step_, pair_raise_;
+  std::vector<float> far_step_;  ///< classify(): per-row outer - inner at kHeightFar only  ///< classify(): per-row outer - inner, line - inner
   std::vector<float> twin_[2];  ///< centreDoubleLine(): offsets (m) of the second band, per side
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start

@@ -37,6 +37,17 @@ namespace rgbd_lane_detector {
  * Not thread-safe: one detector per thread. Buffers are allocated on the first frame and on
  * size changes only, so with a reused Result the steady state does not allocate.
  */
+/**
+ * @brief The processing scale detect() uses for frames of @p size and @p intrinsics: @p
+ * params.processing_scale when it is set (> 0), else the automatic choice. The templates are
+ * made for a lane line about 20 px wide at the nearest rows (the paper's 640x380 R200 frames,
+ * KITTI's 1242x375); a lane line of 10 cm on a road params.camera_height below the camera has,
+ * at the bottom image row v, the width 0.10 (v - cy) / camera_height px whatever the focal
+ * length. The automatic scale brings that to 24 px (no resampling when it is already narrower):
+ * a 1920x1080 camera is processed at about 850x480, a 640x480 or 1242x375 one as it is.
+ */
+double processingScale(const Params& params, const cv::Size& size, const Intrinsics& intrinsics);
+
 class LaneDetector {
  public:
   explicit LaneDetector(const Params& params = Params());
@@ -111,9 +122,10 @@ class LaneDetector {
   void prepareGeometry(const Frame& frame);
   void preprocess(const Frame& frame);
   void computePoints(const Frame& frame);
-  /// The road plane from depth (improved mode), extended toward the camera where depth is
-  /// missing (fillFromRoadPlane()).
-  void fitRoadSurface();
+  /// The road plane from depth (improved mode), near the vehicle's up axis when the frame gives
+  /// the camera's pose, held over a fit that jumps from the last plane, extended toward the
+  /// camera where depth is missing (fillFromRoadPlane()).
+  void fitRoadSurface(const Frame& frame);
   void computeResponses();
   /// The frame as the candidate search sees it (candidate_frame_).
   const CandidateFrame& candidateFrame(const Frame& frame);
@@ -167,6 +179,7 @@ class LaneDetector {
   std::array<bool, 2> acquiring_{{false, false}};
   RoadSurface road_surface_;
   PlaneEstimate road_;
+  int plane_holds_ = 0;  ///< frames in a row whose fit jumped from the last plane (kept instead)
   CandidateFrame candidate_frame_;
   BoundaryCandidateFinder finder_;
   BoundaryClassifier paint_classifier_;  ///< measurePaint()

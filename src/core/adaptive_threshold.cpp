@@ -11,6 +11,17 @@ void keepAtLeast(const uint8_t* __restrict in, uint8_t* __restrict out, int n, u
   for (int x = 0; x < n; ++x) out[x] = in[x] >= tau ? in[x] : uint8_t(0);
 }
 
+// More than kBrightTail of a row's sampled pixels at or above @p tau: the row shows something
+// the fixed offset keeps (paint, a zebra stripe), not a low-contrast row.
+bool brightTail(const std::vector<int>& histogram, int tau) {
+  int n = 0, above = 0;
+  for (int g = 0; g < 256; ++g) {
+    n += histogram[g];
+    if (g >= tau) above += histogram[g];
+  }
+  return above > kBrightTail * n;
+}
+
 }  // namespace
 
 int rowMedian(const uint8_t* row, int width, std::vector<int>& histogram, int stride) {
@@ -27,7 +38,7 @@ int rowMedian(const uint8_t* row, int width, std::vector<int>& histogram, int st
 }
 
 void applyRowThreshold(const cv::Mat& grey, cv::Mat& out, const cv::Range& rows, int offset,
-                       std::vector<int>& histogram) {
+                       std::vector<int>& histogram, double relative) {
   CV_Assert(grey.type() == CV_8UC1);
   if (out.data != grey.data && (out.size() != grey.size() || out.type() != CV_8UC1)) {
     out.create(grey.size(), CV_8UC1);
@@ -38,7 +49,10 @@ void applyRowThreshold(const cv::Mat& grey, cv::Mat& out, const cv::Range& rows,
     const uint8_t* in = grey.ptr<uint8_t>(y);
     // a median of every 4th pixel is as good a level as the exact one, at a quarter of the cost
     const int level = rowMedian(in, grey.cols, histogram, 4);
-    const uint8_t tau = static_cast<uint8_t>(std::min(std::max(level + offset, 0), 255));
+    int row_offset = offset;
+    if (relative > 0.0 && level < kDarkRow && !brightTail(histogram, level + offset))
+      row_offset = std::min(offset, std::max(kMinRowOffset, static_cast<int>(relative * level + 0.5)));
+    const uint8_t tau = static_cast<uint8_t>(std::min(std::max(level + row_offset, 0), 255));
     uint8_t* row = out.ptr<uint8_t>(y);
     if (row == in) {
       for (int x = 0; x < grey.cols; ++x) row[x] = row[x] >= tau ? row[x] : uint8_t(0);

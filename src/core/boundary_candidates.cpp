@@ -16,7 +16,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kMaxSeedRetries = 4;   // seeds that are no marker looked past per line
-constexpr double kFollowGap = 10.0;  // m: dash gaps a followed line crosses (9 m on highways)
+constexpr double kFollowGap = 13.0;  // m: dash gaps a followed line crosses (9-12 m on motorways)
+constexpr double kSeedReach = 0.3;   // m: a seed's paint is sought this far either side of it
+constexpr double kSeedSpan = 1.0;    // m: the line through a seed starts this far either side
+constexpr double kStrokeGap = 1.0;     // m without paint between two dashes of a followed line
+constexpr double kStrokeLength = 8.0;  // m: one stretch of paint this long is a line (no arrow)
+constexpr double kDashGap = 2.0;       // m without a narrow band between two dashes of worn paint
+constexpr int kMinDashes = 2;          // dashes that tell worn paint from a rail ...
+constexpr double kMaxDashCoverage = 0.6;  // ... where they cover at most this share of the line
+constexpr double kDashRange = 25.0;    // m ahead within which the dashes are counted
 constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
 constexpr double kEdgeReach = 0.3;   // m: a traced road edge this near a depth edge is the same
 constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
@@ -101,13 +109,18 @@ void BoundaryCandidateFinder::traceLines(const CandidateFrame& f, int side, cv::
     // a seed whose marker direction no ego-lane marker can have (the road edge line of a
     // highway, a neighbour lane's marker) is not traced (named option, off in the paper mode)
     float peak_value = value;
-    if (pca.valid && !plausibleMarkerAngle(pca.angle, left)) peak_value = 0.f;
+    const bool implausible = pca.valid && !plausibleMarkerAngle(pca.angle, left);
+    if (implausible) {
+      peak_value = 0.f;
+      m.angle_valid = false;  // (a short dash's blob: followFromSeed() may still find its line)
+    }
     if (count > first && !(peak_value > params_.trace_threshold)) {
       excludeBox(f, R, peak);  // a further seed that is no marker: look past it
       continue;
     }
     const Clock::time_point tt = Clock::now();
     buildTrace(f, R, peak, peak_value, m.angle, m);
+    if (implausible) m.peak_score = value;  // untraced, but a match worth following
     tracing_ms += std::chrono::duration<double, std::milli>(Clock::now() - tt).count();
     ++count;
     if (!traceable || count == wanted) break;
@@ -323,11 +336,23 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
   for (int side = 0; side < 2; ++side)
     for (int k = 0; k < counts_[side]; ++k) {
       BoundaryCandidate& c = candidates_[side][k];
+      if (static_cast<int>(c.trace.pixels.size()) < params_.min_marker_points)
+        followFromSeed(f, c.trace);
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+          c.evidence.narrow_rows >= c.evidence.rows / 2)
+        dashedNarrowLine(f, side, c);
       // a painted line: on the paint's centre, row by row, and as far as it goes
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
                                params_.max_depth);
+        if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_))
+          c.trace.points.resize(c.trace.pixels.size());
+        if (loneStroke(f, c.trace.pixels) && classifier_.arrowHead(in, c.trace.pixels, params_)) {
+          c.evidence.boundary = false;
+          c.evidence.reason = "lane arrow";
+          continue;
+        }
         classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
         // followed into the depth tells it again (a kerb's bright top is no paint)
@@ -343,6 +368,93 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
     }
   followPredictedLines(f);
   addRoadEdgesFromDepth(f);
+}
+
+int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
+                                            const std::vector<cv::Point2f>& pixels, double gap,
+                                            double* extent, double* painted,
+                                            double max_forward) const {
+  int stretches = 0;
+  double near_f = std::numeric_limits<double>::infinity(), far_f = -near_f, last_f = 0.0;
+  double start_f = 0.0, covered = 0.0;
+  const PlaneFrame& frame = classifier_input_.frame;
+  for (const auto& px : pixels) {  // near to far
+    const Eigen::Vector3d r((px.x - f.K.cx) / f.K.fx, (px.y - f.K.cy) / f.K.fy, 1.0);
+    const double dn = f.road->normal.dot(r);
+    if (!(dn < -1e-9)) continue;
+    const double fwd = frame.toPlane(r * (-f.road->distance / dn)).x();
+    if (fwd > max_forward) continue;
+    if (stretches == 0 || std::fabs(fwd - last_f) > gap) {
+      if (stretches > 0) covered += std::fabs(last_f - start_f);
+      ++stretches;
+      start_f = fwd;
+    }
+    last_f = fwd;
+    near_f = std::min(near_f, fwd);
+    far_f = std::max(far_f, fwd);
+  }
+  if (stretches > 0) covered += std::fabs(last_f - start_f);
+  if (extent) *extent = stretches > 0 ? far_f - near_f : 0.0;
+  if (painted) *painted = covered;
+  return stretches;
+}
+
+bool BoundaryCandidateFinder::loneStroke(const CandidateFrame& f,
+                                          const std::vector<cv::Point2f>& pixels) const {
+  // paint on two stretches (dashes) or over a length no arrow has is a lane line
+  double extent = 0.0;
+  return paintStretches(f, pixels, kStrokeGap, &extent) < 2 && !(extent >= kStrokeLength);
+}
+
+void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side,
+                                               BoundaryCandidate& c) {
+  // a rail head runs on without a break; a line narrower than paint that comes in dashes is worn
+  // paint (the bright core of a faded dash measures a few centimetres)
+  seed_pixels_.assign(c.trace.pixels.begin(), c.trace.pixels.end());
+  const ClassifierInput& in = classifier_input_;
+  double extent = 0.0, painted = 0.0;
+  if (classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap,
+                             params_.max_depth) < params_.min_marker_points)
+    return;
+  // within kDashRange, where a rail head is resolved on every row (farther, any thin line
+  // breaks up)
+  const int dashes = paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange);
+  if (dashes < kMinDashes || painted > kMaxDashCoverage * extent) return;
+  c.trace.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
+  c.trace.points.assign(seed_points_.begin(), seed_points_.end());
+  c.trace.scores.resize(c.trace.pixels.size(), c.trace.peak_score);
+  c.evidence.kind = BoundaryKind::kPaint;
+  c.evidence.reason = "narrow dashes (worn paint)";
+  (void)side;
+}
+
+bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, MarkerTrace& m) {
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  if (!(m.peak_score > params_.trace_threshold) || m.seed.x < 0.f) return false;
+  const Eigen::Vector3d ray((m.seed.x - f.K.cx) / f.K.fx, (m.seed.y - f.K.cy) / f.K.fy, 1.0);
+  const double den = f.road->normal.dot(ray);
+  if (!(den < -1e-9)) return false;
+  const Eigen::Vector2d q = in.frame.toPlane(ray * (-f.road->distance / den));
+  // the line through the seed straight ahead on the road (ego-lane lines run with the vehicle)
+  seed_pixels_.clear();
+  seed_points_.clear();
+  for (double df : {-kSeedSpan, 0.0, kSeedSpan}) {
+    const Eigen::Vector3d p = in.frame.toCamera(q.x() + df, q.y());
+    if (!(p.z() > 0.1)) continue;
+    seed_pixels_.emplace_back(static_cast<float>(f.K.fx * p.x() / p.z() + f.K.cx),
+                              static_cast<float>(f.K.fy * p.y() / p.z() + f.K.cy));
+  }
+  if (seed_pixels_.size() < 2) return false;
+  if (classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap, params_.max_depth,
+                             kSeedReach) < params_.min_marker_points)
+    return false;
+  if (loneStroke(f, seed_pixels_)) return false;
+  m.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
+  m.points.assign(seed_points_.begin(), seed_points_.end());
+  m.scores.assign(m.pixels.size(), m.peak_score);
+  m.num_valid_points = 0;
+  for (const auto& p : m.points) m.num_valid_points += !std::isnan(p.z());
+  return true;
 }
 
 template <typename Lateral>

@@ -41,6 +41,11 @@ constexpr double kFollowReach = 0.15;        // m: a followed row's band is soug
 constexpr double kFollowSpacing = 0.1;       // m of road between followed rows at least
 constexpr double kFollowFit = 4.0;            // m of road behind the last row found that make the line ahead
 constexpr double kEdgeReference[2] = {0.7, 1.0};  // m inside a road edge: the road's look
+constexpr double kArrowReach = 2.5;           // m beyond a stroke's far end where an arrow's head is sought
+constexpr double kArrowBack = 3.0;            // ... and from this far before it
+constexpr double kArrowHalfWidth = 0.8;       // m either side of the stroke's extension looked at
+constexpr double kArrowTaper = 0.5;           // an arrow's head narrows below this share of its base
+constexpr double kArrowWidthShare = 1.0;      // a head is wider than paint_width_max (no lane line is)
 constexpr double kEdgeBeyond = 0.3;          // m: an edge is sought up to this far beyond the line
 constexpr double kEdgeRun = 0.12;            // m of mostly not-road in a row that make the edge
 constexpr double kEdgeFill = 0.75;           // share of kEdgeRun that is not road
@@ -568,11 +573,135 @@ bool BoundaryClassifier::edgeInRow(const ClassifierInput& in, int v, double u, d
   return false;
 }
 
+// Column of an image polyline (near to far, rows decreasing) at row v, linear between its points.
+double columnAt(const std::vector<cv::Point2f>& line, int v) {
+  for (size_t i = 1; i < line.size(); ++i)
+    if ((v <= line[i - 1].y && v >= line[i].y) || (v >= line[i - 1].y && v <= line[i].y)) {
+      const double dy = line[i].y - line[i - 1].y;
+      return std::fabs(dy) > 1e-6 ? line[i - 1].x + (v - line[i - 1].y) * (line[i].x - line[i - 1].x) / dy
+                                  : line[i].x;
+    }
+  return line.back().x;
+}
+
+bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels,
+                                   const Params& p) {
+  // beyond the far end of a painted stroke (up to kArrowReach of road), a bright band much
+  // wider than paint around its extension on a few rows: the head of a lane arrow
+  if (pixels.size() < 3 || in.plane == nullptr || !in.plane->valid) return false;
+  const Intrinsics& K = in.K;
+  const cv::Point2f& a = pixels[pixels.size() - 3];
+  const cv::Point2f& b = pixels.back();
+  if (!(b.y < a.y - 0.5f)) return false;
+  const double du = (b.x - a.x) / (b.y - a.y);  // column change per row, toward the top
+  auto forward = [&](double u, double v, double& f, double& ppm) {
+    const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+    const double den = in.plane->normal.dot(ray);
+    if (!(den < -1e-9)) return false;
+    const double t = -in.plane->distance / den;
+    f = in.frame.toPlane(ray * t).x();
+    ppm = K.fx / t;
+    return true;
+  };
+  double f0 = 0.0, ppm0 = 0.0;
+  if (!forward(b.x, b.y, f0, ppm0)) return false;
+  // from kArrowBack before the far end (the follow may have run up the head's narrow tip)
+  int v_start = static_cast<int>(std::lround(b.y)) - 1;
+  for (size_t i = pixels.size(); i-- > 0;) {
+    double f = 0.0, ppm = 0.0;
+    if (!forward(pixels[i].x, pixels[i].y, f, ppm) || f0 - f > kArrowBack) break;
+    v_start = static_cast<int>(std::lround(pixels[i].y));
+  }
+  int wide = 0, widest = 0;
+  for (int v = v_start; v >= 0; --v) {
+    const double u = v >= b.y ? columnAt(pixels, v) : b.x + du * (v - b.y);
+    double f = 0.0, ppm = 0.0;
+    if (!forward(u, v, f, ppm) || f - f0 > kArrowReach) break;
+    if (ppm < kWidthPixelsPerMetre) break;
+    const ImageRow row(in, v);
+    if (!row.valid()) break;
+    const int W = static_cast<int>(std::lround(kArrowHalfWidth * ppm));
+    const int u0 = static_cast<int>(std::lround(u));
+    if (u0 - W < 0 || u0 + W >= in.colour->cols) break;
+    side_.clear();
+    for (int x = u0 - W; x <= u0 + W; ++x) side_.push_back(row.grey(x));
+    const float bg = greyMedian(side_);
+    const float level = bg + std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(bg, 1.0f));
+    // the bright run through the nearest bright pixel to the extension
+    int c = -1;
+    for (int k = 0; k <= W / 4 && c < 0; ++k)
+      for (int x : {u0 - k, u0 + k})
+        if (c < 0 && row.grey(x) >= level) c = x;
+    int width = 0;
+    bool bounded = true;
+    if (c >= 0) {
+      int l = c, r = c;
+      while (l - 1 >= u0 - W && row.grey(l - 1) >= level) --l;
+      while (r + 1 <= u0 + W && row.grey(r + 1) >= level) ++r;
+      width = r - l + 1;
+      bounded = l > u0 - W && r < u0 + W;  // a stop line runs across the whole road
+    }
+    if (bounded && width > kArrowWidthShare * p.paint_width_max * ppm) {
+      ++wide;
+      widest = std::max(widest, width);
+    } else if (wide >= kMinRows && width < kArrowTaper * widest) {
+      return true;  // the head narrows to its tip (a zebra stripe keeps its width)
+    }
+  }
+  return false;
+}
+
+bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                     bool left, const Params& p) {
+  // the first pixel (near to far) from which the line or the road beside it on the vehicle's
+  // side reads depth well above the road on two of three measured pixels; the line before it
+  // must lie on the road (within the kerb height) on most of its measured pixels
+  if (in.plane == nullptr || !in.plane->valid) return false;
+  const Intrinsics& K = in.K;
+  object_.clear();  // per pixel: 1 object, 0 road, -1 no depth
+  for (const auto& c : pixels) {
+    const int u = static_cast<int>(std::lround(c.x));
+    const int v = static_cast<int>(std::lround(c.y));
+    const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+    const double den = in.plane->normal.dot(ray);
+    if (!(den < -1e-9)) {
+      object_.push_back(-1);
+      continue;
+    }
+    const int inner = static_cast<int>(std::lround(kHeightNear * K.fx * (-den) / in.plane->distance));
+    const float h = heightAt(in, u, v);
+    const float hi = heightAt(in, left ? u + inner : u - inner, v);
+    const bool object = (std::isfinite(h) && h > kObjectHeight) || (std::isfinite(hi) && hi > kObjectHeight);
+    object_.push_back(object ? 1 : std::isfinite(h) ? (std::fabs(h) <= p.kerb_height ? 0 : 2) : -1);
+  }
+  int on_road = 0, measured = 0;
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    if (object_[i] == 1) {
+      int objects = 0, seen = 0;
+      for (size_t j = i; j < object_.size() && seen < 3; ++j) {
+        if (object_[j] < 0) continue;
+        ++seen;
+        objects += object_[j] == 1;
+      }
+      if (objects < 2) continue;  // a lone reading (a pole's foot, noise)
+      if (measured < kMinHeights || on_road < kStepShare * measured ||
+          static_cast<int>(i) < kMinRows)
+        return false;
+      pixels.resize(i);
+      return true;
+    }
+    if (object_[i] < 0) continue;
+    ++measured;
+    on_road += object_[i] == 0;
+  }
+  return false;
+}
+
 void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                   bool left, const Params& p, BoundaryEvidence& ev) {
   ev = BoundaryEvidence();
   for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_,
-                  &pair_step_, &pair_raise_})
+                  &pair_step_, &pair_raise_, &far_step_})
     v->clear();
   if (in.plane == nullptr || !in.plane->valid || !in.frame.valid) {
     ev.reason = "no plane";
@@ -582,6 +711,9 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     ev.reason = "too short";
     return;
   }
+  // a line on the road that runs up to a vehicle ahead (its far rows, or the lane beside them,
+  // read the vehicle's depth) is the line up to the vehicle
+  cutAtObject(in, pixels, left, p);
   const Intrinsics& K = in.K;
   const Eigen::Vector3d& n = in.plane->normal;
   const double d = in.plane->distance;
@@ -634,7 +766,10 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
       if (std::isfinite(ho)) outer_h_.push_back(ho);
       // the same row's steps, against the road on the vehicle's side: a tilted or offset plane
       // cancels out, and noisy depth shows no step in most rows
-      if (std::isfinite(hi) && std::isfinite(ho)) pair_step_.push_back(ho - hi);
+      if (std::isfinite(hi) && std::isfinite(ho)) {
+        pair_step_.push_back(ho - hi);
+        if (off == kHeightFar) far_step_.push_back(ho - hi);
+      }
       if (std::isfinite(hi) && std::isfinite(hl)) pair_raise_.push_back(hl - hi);
     }
   }
@@ -661,7 +796,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   }
 
   // 1. well above the road, or beyond something that is: an object (a truck's stripe, a guard
-  // rail's beam, a cyclist)
+  // rail's beam, a cyclist; a line on the road is cut where it runs into a vehicle, before)
   if ((std::isfinite(ev.line_height) && ev.line_height > kObjectHeight) ||
       (std::isfinite(ev.inner_height) && ev.inner_height > kObjectHeight)) {
     ev.reason = "above the road";
@@ -679,8 +814,13 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   if (!stepInMostRows(pair_raise_, kerb, raise_h) && std::isfinite(ev.line_height))
     raise_h = ev.line_height - inner;
   ev.step_height = step_h;
-  if ((std::isfinite(step_h) && step_h >= kerb && step_h <= kObjectHeight * 2) ||
-      (std::isfinite(raise_h) && raise_h >= kerb)) {
+  // (no kerb is higher than an object; a vehicle beside the line raises its outer side more,
+  // and more so farther out: its body above its wheels)
+  const bool vehicle_beside =
+      static_cast<int>(far_step_.size()) >= kMinHeights && median(far_step_) > kObjectHeight;
+  if (!vehicle_beside &&
+      ((std::isfinite(step_h) && step_h >= kerb && step_h <= kObjectHeight) ||
+       (std::isfinite(raise_h) && raise_h >= kerb))) {
     ev.boundary = true;
     ev.kind = BoundaryKind::kRoadEdge;
     ev.reason = "height step";

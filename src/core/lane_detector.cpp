@@ -21,6 +21,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+constexpr int kPlaneHoldFrames = 5;       // frames the last plane is kept over jumping fits
+constexpr double kPlaneDropPerDeg = 0.05; // m of height change per degree of plane_max_change_deg
+
 double msSince(Clock::time_point& t) {
   const Clock::time_point now = Clock::now();
   const double ms = std::chrono::duration<double, std::milli>(now - t).count();
@@ -58,6 +61,18 @@ void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row
 
 }  // namespace
 
+double processingScale(const Params& params, const cv::Size& size, const Intrinsics& intrinsics) {
+  if (params.processing_scale > 0.0) return params.processing_scale;
+  constexpr double kLineWidth = 0.10;   // m, a narrow lane line
+  constexpr double kNearWidthPx = 24.0; // its width at the bottom row the templates suit
+  const double below = size.height - 1 - intrinsics.cy;
+  const double near_px = kLineWidth * below / std::max(0.2, params.camera_height);
+  if (!(near_px > kNearWidthPx)) return 1.0;  // also: cy at or below the bottom row
+  // a processing image of at least 64 px a side (the templates must fit)
+  const double floor_scale = 64.0 / std::max(1, std::min(size.width, size.height));
+  return std::max(std::min(1.0, floor_scale), kNearWidthPx / near_px);
+}
+
 LaneDetector::LaneDetector(const Params& params) { setParams(params); }
 
 void LaneDetector::setParams(const Params& params) {
@@ -86,6 +101,7 @@ void LaneDetector::reset() {
   fitter_.reset();
   lane_model_.reset();
   road_.valid = false;
+  plane_holds_ = 0;
   templates_dirty_ = true;
 }
 
@@ -126,7 +142,7 @@ Status LaneDetector::validate(const Frame& frame) const {
   }
   if (!frame.intrinsics.valid()) return Status::kInvalidIntrinsics;
   // searched region at the processing scale must hold a template
-  const double s = params_.processing_scale;
+  const double s = processingScale(params_, frame.colour.size(), frame.intrinsics);
   const int pw = std::max(1, static_cast<int>(std::lround(frame.colour.cols * s)));
   const int ph = std::max(1, static_cast<int>(std::lround(frame.colour.rows * s)));
   const int top = static_cast<int>(std::lround(params_.roi_top * ph));
@@ -137,7 +153,7 @@ Status LaneDetector::validate(const Frame& frame) const {
 }
 
 void LaneDetector::prepareGeometry(const Frame& frame) {
-  const double s = params_.processing_scale;
+  const double s = processingScale(params_, frame.colour.size(), frame.intrinsics);
   const cv::Size in = frame.colour.size();
   const cv::Size proc(std::max(1, static_cast<int>(std::lround(in.width * s))),
                       std::max(1, static_cast<int>(std::lround(in.height * s))));
@@ -219,7 +235,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   timings_.preprocess = msSince(t);
   computePoints(frame);         // 2. organised 3D points
   timings_.points = msSince(t);
-  fitRoadSurface();             // 3. the road plane from depth, extended where depth is missing
+  fitRoadSurface(frame);        // 3. the road plane from depth, extended where depth is missing
   timings_.road = msSince(t);   //    (improved mode)
   computeResponses();           // 4.-6. template matching, normals and G, R
   msSince(t);
@@ -238,7 +254,7 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   LaneFitInput fit;             // 9. the lane plane and boundaries
   fit.K = proc_K_;
   fit.road = &road_;
-  fit.road_range = road_surface_.validRange();
+  fit.road_range = road_.valid ? road_.range : 0.0;
   fit.candidates = &finder_.candidates();
   fit.counts = finder_.counts();
   fitter_.fit(fit, result);
@@ -261,7 +277,8 @@ void LaneDetector::preprocess(const Frame& frame) {
   if (grey) halfBinary(colour, frame.format, 0, roi_rows_, grey_);
   if (params_.adaptive_tau_c) {
     // per-row threshold: row median + offset (fog, overpasses, shadows change the road's grey)
-    applyRowThreshold(grey_, half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_);
+    applyRowThreshold(grey_, half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_,
+                      params_.classify_boundaries ? params_.paint_contrast : 0.0);
   } else {
     halfBinary(colour, frame.format, params_.tau_c, roi_rows_, half_binary_);
   }
@@ -365,13 +382,18 @@ void LaneDetector::computeResponses() {
   timings_.response += std::chrono::duration<double, std::milli>(Clock::now() - t6).count();
 }
 
-void LaneDetector::fitRoadSurface() {
+void LaneDetector::fitRoadSurface(const Frame& frame) {
   road_.valid = false;
   road_filled_valid_ = false;
   if (params_.plane_fit != PlaneFit::kRoadSurface) return;
   RoadSurfaceSettings s;
   s.up = Eigen::Vector3d(params_.up_x, params_.up_y, params_.up_z);
   s.max_tilt_deg = params_.plane_max_tilt_deg;
+  if (frame.has_vehicle_frame) {
+    // the vehicle sits on the road: its up axis is the road's, within the mount's tolerance
+    s.up = frame.vehicle_from_camera.linear().transpose() * Eigen::Vector3d::UnitZ();
+    s.max_tilt_deg = std::min(s.max_tilt_deg, params_.mount_tilt_deg);
+  }
   s.height_min = params_.plane_distance_min;
   s.height_max = params_.plane_distance_max;
   s.fit_range = params_.road_fit_range;
@@ -381,7 +403,30 @@ void LaneDetector::fitRoadSurface() {
   const double sx = static_cast<double>(proc_size_.width) / input_size_.width;
   s.far_columns =
       RoadSurface::corridorColumns(proc_K_.fx * sx, (proc_K_.cx + 0.5) * sx - 0.5, s.fit_range);
-  if (!road_surface_.fit(points_, roi_rows_, s, fitter_.previousPlane(), road_)) return;
+  const PlaneEstimate& previous = fitter_.previousPlane();
+  if (!road_surface_.fit(points_, roi_rows_, s, previous, road_)) return;
+  // a road does not tilt or drop within a frame: a plane that jumps from the last one is depth
+  // that fooled the fit (sparse returns, the paint alone, a wet road); the last plane is kept
+  // instead, for kPlaneHoldFrames frames at most (then the new one holds)
+  if (params_.plane_max_change_deg > 0.0 && previous.valid) {
+    const double change =
+        std::acos(std::min(1.0, std::fabs(previous.normal.dot(road_.normal)))) * 180.0 / M_PI;
+    const double drop = std::fabs(previous.distance - road_.distance);
+    if ((change > params_.plane_max_change_deg ||
+         drop > kPlaneDropPerDeg * params_.plane_max_change_deg) &&
+        plane_holds_ < kPlaneHoldFrames) {
+      ++plane_holds_;
+      road_.normal = previous.normal;
+      road_.distance = previous.distance;
+      road_.support.clear();
+      road_.rms = 0.0;
+      road_.range = std::min(road_.range, s.fit_range);
+    } else {
+      plane_holds_ = 0;
+    }
+  } else {
+    plane_holds_ = 0;
+  }
   // LiDAR and stereo often see nothing near the car: where a column's nearest depth is road, the
   // road continues toward the camera (its points give seeds there a road's normal and depth)
   const int h = params_.normal_window / 2;

@@ -191,6 +191,12 @@ Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info) {
   return K;
 }
 
+bool hasDistortion(const sensor_msgs::CameraInfo& info) {
+  for (double d : info.D)
+    if (d != 0.0) return true;
+  return false;
+}
+
 bool sameCamera(const Intrinsics& a, const Intrinsics& b, double tolerance) {
   if (!a.valid() || !b.valid()) return false;
   const double limit = tolerance * a.fx;

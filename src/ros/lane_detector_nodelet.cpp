@@ -413,6 +413,11 @@ void LaneDetectorNodelet::prepareDetector(const CameraInfo& info) {
   const Clock::time_point start = Clock::now();
   const Status status = detector_.prepare(size, K);
   if (status != Status::kOk) return;  // the frames will be dropped, naming the problem
+  if (conv::hasDistortion(info))
+    NODELET_WARN("camera_info has distortion coefficients (model '%s'): the detector reads the "
+                 "images as rectified with the pinhole P/K, so lines toward the image edges come "
+                 "out displaced. Feed it rectified images (image_proc: image_rect_color).",
+                 info.distortion_model.c_str());
   NODELET_INFO("Detector prepared for %dx%d frames in %.1f ms (fx %.3f, fy %.3f, cx %.3f, cy %.3f)",
                size.width, size.height,
                std::chrono::duration<double, std::milli>(Clock::now() - start).count(), K.fx, K.fy,

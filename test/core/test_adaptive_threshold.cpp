@@ -43,5 +43,32 @@ TEST(AdaptiveThreshold, EachRowAtItsMedianPlusOffset) {
   EXPECT_EQ(grey.at<uint8_t>(0, 0), 20);  // the input of the copy is kept
 }
 
+TEST(AdaptiveThreshold, DarkRowsTakeThePaintsRelativeContrast) {
+  // rows of 40 px (the median reads every 4th pixel): a dark foggy row (median 41): offset
+  // 0.25 x 41 = 10, paint at 56 kept where the fixed +30 loses it, 50 not; a row at the dark
+  // limit's other side (median 90) keeps the fixed offset: tau 120; a very dark row (median 12)
+  // keeps at least kMinRowOffset against noise: tau 20
+  cv::Mat img(3, 40, CV_8UC1);
+  for (int x = 0; x < 40; ++x) {
+    img.at<uint8_t>(0, x) = static_cast<uint8_t>(40 + x % 3);
+    img.at<uint8_t>(1, x) = static_cast<uint8_t>(89 + x % 3);
+    img.at<uint8_t>(2, x) = static_cast<uint8_t>(11 + x % 3);
+  }
+  img.at<uint8_t>(0, 21) = 56;
+  img.at<uint8_t>(0, 22) = 50;
+  img.at<uint8_t>(1, 21) = 120;
+  img.at<uint8_t>(1, 22) = 119;
+  img.at<uint8_t>(2, 21) = 21;
+  img.at<uint8_t>(2, 22) = 19;
+  std::vector<int> hist;
+  cv::Mat out;
+  applyRowThreshold(img, out, cv::Range(0, 3), 30, hist, 0.25);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 40; ++x)
+      EXPECT_EQ(out.at<uint8_t>(y, x), x == 21 ? img.at<uint8_t>(y, 21) : 0) << y << " " << x;
+  applyRowThreshold(img, out, cv::Range(0, 1), 30, hist);  // fixed offset: tau 71
+  EXPECT_EQ(out.at<uint8_t>(0, 21), 0);
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector

@@ -182,6 +182,19 @@ TEST(Conversions, DisparityImageReadInPlaceWithItsModel) {
             std::string::npos);
 }
 
+TEST(Conversions, DistortionIsAnyNonZeroCoefficient) {
+  sensor_msgs::CameraInfo info;
+  EXPECT_FALSE(conv::hasDistortion(info));  // no coefficients: a pinhole
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  EXPECT_FALSE(conv::hasDistortion(info));  // rectified images publish zeros
+  for (size_t i = 0; i < 5; ++i) {
+    info.D.assign(5, 0.0);
+    info.D[i] = i == 4 ? 1e-6 : -0.3;
+    EXPECT_TRUE(conv::hasDistortion(info)) << i;
+  }
+}
+
 TEST(Conversions, SameCameraWithinHalfAPixelAtFiveHundredPixels) {
   const Intrinsics K{500, 510, 320, 240};
   EXPECT_TRUE(conv::sameCamera(K, K));

@@ -76,6 +76,13 @@ const char* depthFromMsg(const sensor_msgs::Image& msg, cv::Mat& depth, double& 
 Intrinsics intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info);
 
 /**
+ * @brief Whether a camera_info describes a raw (distorted) image: any distortion coefficient
+ * non-zero. The detector reads its images as rectified (the pinhole P, else K); raw images must
+ * go through image_proc's rectification first.
+ */
+bool hasDistortion(const sensor_msgs::CameraInfo& info);
+
+/**
  * @brief Whether @p b is the calibration @p a within the re-estimation noise of a driver that
  * refines it while it runs: fx, fy, cx and cy each within @p tolerance times a's fx of a's
  * (the default 1e-3 is half a pixel at a 500 px focal length). Invalid intrinsics match nothing.
