@@ -142,11 +142,29 @@ TEST(LaneGridScoring, SummaryAndReport) {
   EXPECT_TRUE(report.empty());
   report.add("solid", "improved", 0, score(model(), twoLanes(LineStyle::kSolid), false),
              score(model(), twoLanes(LineStyle::kSolid), true));
+  report.add("off", "improved", 7, score(model(2.15), twoLanes(LineStyle::kSolid), false),
+             score(model(2.15), twoLanes(LineStyle::kSolid), true));
+  // a frame whose grid frees the next lane across its dashed line: counted as freed, nothing beyond
+  const LaneModelEstimate dashed = model(1.75, LineKind::kDashed);
+  report.add("dashed", "improved", 0, score(dashed, twoLanes(LineStyle::kDashed), false),
+             score(dashed, twoLanes(LineStyle::kDashed), true));
   std::ostringstream md;
   report.writeMarkdown(md);
-  EXPECT_NE(md.str().find("| solid | improved | 1 | 1 | 26.0 | 520 | 100.00 |"), std::string::npos)
+  EXPECT_NE(md.str().find("| off | improved | 1 | 1 | 26.0 | 520 | 50.00 | 9880 | 520 (5.2632%) | "
+                          "0.150 (7) | 1 | 0 | 520 |"),
+            std::string::npos)
       << md.str();
-  EXPECT_NE(md.str().find("| **all** | improved | 1 |"), std::string::npos);
+  EXPECT_NE(md.str().find("| dashed | improved | 1 | 1 | 26.0 | 520 | 100.00 | 8840 | 0 (0.0000%) | "
+                          "- | 0 | 1 | 0 |"),
+            std::string::npos)
+      << md.str();
+  EXPECT_NE(md.str().find("| **all** | improved | 3 | 3 | 26.0 | 1560 | 83.33 | 27560 | 520 "),
+            std::string::npos)
+      << md.str();
+  EXPECT_NE(md.str().find("| solid | improved | 1 | 1 | 26.0 | 520 | 100.00 | 8840 | 0 (0.0000%) | - "
+                          "| 0 | 0 | 0 |"),
+            std::string::npos)
+      << md.str();
 }
 
 }  // namespace

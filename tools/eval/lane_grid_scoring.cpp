@@ -169,11 +169,12 @@ void LaneGridReport::add(const std::string& sequence, const std::string& mode, i
     return e.sequence == sequence && e.mode == mode;
   });
   if (it == entries_.end()) {
-    entries_.push_back(Entry{sequence, mode, LaneGridSummary(), LaneGridSummary()});
+    entries_.push_back(Entry{sequence, mode, LaneGridSummary(), LaneGridSummary(), 0});
     it = entries_.end() - 1;
   }
   it->ego.add(ego, frame);
   it->lane_change.add(lane_change, frame);
+  it->freed_frames += ego.truth_valid && lane_change.free_cells > ego.free_cells;
 }
 
 void LaneGridReport::writeMarkdown(std::ostream& md, const std::string& title_suffix) const {
@@ -183,36 +184,42 @@ void LaneGridReport::writeMarkdown(std::ostream& md, const std::string& title_su
         "cell; *covered* = true ego boundary cells in the range that are occupied or within one "
         "cell of an occupied one; *free beyond* = free cells whose centre lies beyond the true "
         "boundary bounding them by more than the published lateral_std + one cell (% of the "
-        "free cells with a true boundary beside them; the worst excess and the frames with any). "
-        "With `allow_lane_change`: frames in which the next lane is free across a truly dashed "
-        "ego boundary, and free cells beyond a solid line or road edge (or beyond the next "
-        "lane's far line).\n\n"
+        "free cells with a true boundary beside them; the worst excess beyond that tolerance with "
+        "its frame, and the frames with any). With `allow_lane_change`: the frames in which the "
+        "grid frees a next lane (more free cells than without), and the free cells beyond a "
+        "boundary that may not be crossed (a solid line or road edge, the next lane's far line; "
+        "a truly dashed ego line may be crossed).\n\n"
      << "| sequence | mode | frames | frames with a free lane | free range (m, mean) | true "
-        "boundary cells | covered % | free cells | free beyond | worst (m) | frames with one | "
-        "lane changes allowed: frames with the next lane free | free beyond a solid line / edge "
-        "|\n"
+        "boundary cells | covered % | free cells | free beyond | worst (m, frame) | frames with "
+        "one | lane changes allowed: frames with a next lane freed | lane changes allowed: free "
+        "beyond a boundary that may not be crossed |\n"
      << "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: "
         "|\n";
   auto row = [&md](const std::string& sequence, const std::string& mode,
-                   const LaneGridSummary& e, const LaneGridSummary& lc) {
+                   const LaneGridSummary& e, const LaneGridSummary& lc, int freed) {
     md << "| " << sequence << " | " << mode << " | " << e.frames << " | " << e.range_frames
        << " | " << fmt("%.1f", e.meanFreeLength()) << " | " << e.boundary_cells << " | "
        << fmt("%.2f", e.coveredPercent()) << " | " << e.free_cells << " | " << e.free_beyond
-       << " (" << fmt("%.3f", e.beyondPercent()) << "%) | " << fmt("%.2f", e.worst_beyond) << " | "
-       << e.frames_beyond << " | " << lc.next_lane_frames << " | " << lc.free_beyond << " |\n";
+       << " (" << fmt("%.4f", e.beyondPercent()) << "%) | "
+       << (e.free_beyond > 0 ? fmt("%.3f", e.worst_beyond) + " (" + std::to_string(e.worst_frame) + ")"
+                             : std::string("-"))
+       << " | " << e.frames_beyond << " | " << freed << " | " << lc.free_beyond
+       << " |\n";
   };
   std::vector<std::string> modes;
   for (const Entry& e : entries_)
     if (std::find(modes.begin(), modes.end(), e.mode) == modes.end()) modes.push_back(e.mode);
   for (const std::string& mode : modes) {
     LaneGridSummary ego, lane_change;
+    int freed = 0;
     for (const Entry& e : entries_) {
       if (e.mode != mode) continue;
-      row(e.sequence, e.mode, e.ego, e.lane_change);
+      row(e.sequence, e.mode, e.ego, e.lane_change, e.freed_frames);
       ego.merge(e.ego);
       lane_change.merge(e.lane_change);
+      freed += e.freed_frames;
     }
-    row("**all**", mode, ego, lane_change);
+    row("**all**", mode, ego, lane_change, freed);
   }
   md << "\n";
 }

@@ -22,7 +22,8 @@
  *   boundary at the same position (0 when that position is not published) plus one cell is
  *   counted, with its excess (m beyond that tolerance).
  * - **Next lane**: with lane changes allowed, the free cells beyond a truly dashed ego boundary
- *   (by more than its tolerance): the next lane freed across a dashed line, as it should be.
+ *   (by more than its tolerance; next_lane_cells), and in the report the frames whose grid with
+ *   lane changes allowed frees more cells than the one without (the grid freed a next lane).
  */
 #pragma once
 
@@ -108,6 +109,7 @@ class LaneGridReport {
   struct Entry {
     std::string sequence, mode;
     LaneGridSummary ego, lane_change;
+    int freed_frames = 0;  ///< frames whose lane-change grid frees more cells (a next lane)
   };
   std::vector<Entry> entries_;
 };
