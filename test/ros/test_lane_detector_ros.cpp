@@ -233,14 +233,26 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
 // centre of a 3.6 m lane, a dashed white line on the left and a solid one on the right, straight
 // and level. Every frame is answered on lane_model with the image's stamp; after kModelFrames
 // frames the model's geometry, labels, kinds and colours are the road's.
-TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
-  g->prepare();
+/// The detector's mode parameter (improved when unset).
+std::string detectorMode() {
   std::string mode;
   ros::param::param<std::string>(g->detector + "/mode", mode, "improved");
-  if (mode == "paper") GTEST_SKIP() << "paper mode tracks no lane model";
+  return mode;
+}
+
+/// The road of the lane-model tests: the vehicle 0.3 m right of the lane centre, the left line
+/// dashed.
+test::RoadScene laneScene() {
   test::RoadScene scene = g->scene;
   scene.lateral_offset = 0.3;  // + right of the lane centre
   scene.left_dashed = true;
+  return scene;
+}
+
+TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
+  g->prepare();
+  if (detectorMode() == "paper") GTEST_SKIP() << "paper mode tracks no lane model";
+  const test::RoadScene scene = laneScene();
   const InputSet in = g->inputsOf(scene);
   Outputs out;
   out.model.subscribe(g->nh, "lane_model");
@@ -326,11 +338,8 @@ TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
 // free, the cells half a metre beyond them not free. Paper mode (no lane model): all unknown.
 TEST(LaneDetectorRos, LaneGridMatchesTheRoad) {
   g->prepare();
-  std::string mode;
-  ros::param::param<std::string>(g->detector + "/mode", mode, "improved");
-  test::RoadScene scene = g->scene;
-  scene.lateral_offset = 0.3;  // + right of the lane centre
-  scene.left_dashed = true;
+  const std::string mode = detectorMode();
+  const test::RoadScene scene = laneScene();
   const InputSet in = g->inputsOf(scene);
   Outputs out;
   out.grid.subscribe(g->nh, "lane_grid");

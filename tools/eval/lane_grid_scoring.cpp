@@ -122,21 +122,21 @@ LaneGridScore scoreLaneGrid(const LaneGrid& grid, const LaneModelEstimate& model
 
 void LaneGridSummary::add(const LaneGridScore& s, int frame) {
   if (!s.truth_valid) return;
-  ++frames;
-  range_frames += s.free_cells > 0;
-  free_length += s.free_length;
-  boundary_cells += s.boundary_cells;
-  boundary_covered += s.boundary_covered;
-  free_cells += s.free_cells;
-  free_checked += s.free_checked;
-  free_beyond += s.free_beyond;
-  frames_beyond += s.free_beyond > 0;
-  if (s.worst_beyond > worst_beyond) {
-    worst_beyond = s.worst_beyond;
-    worst_frame = frame;
-  }
-  next_lane_frames += s.next_lane_cells > 0;
-  next_lane_cells += s.next_lane_cells;
+  LaneGridSummary one;  // this frame alone
+  one.frames = 1;
+  one.range_frames = s.free_cells > 0;
+  one.free_length = s.free_length;
+  one.boundary_cells = s.boundary_cells;
+  one.boundary_covered = s.boundary_covered;
+  one.free_cells = s.free_cells;
+  one.free_checked = s.free_checked;
+  one.free_beyond = s.free_beyond;
+  one.frames_beyond = s.free_beyond > 0;
+  one.worst_beyond = s.worst_beyond;
+  one.worst_frame = frame;
+  one.next_lane_frames = s.next_lane_cells > 0;
+  one.next_lane_cells = s.next_lane_cells;
+  merge(one);
 }
 
 void LaneGridSummary::merge(const LaneGridSummary& o) {
