@@ -18,6 +18,7 @@
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/lane_grid.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "road_frames.h"
@@ -168,6 +169,35 @@ void BM_Detect2(benchmark::State& state) {
   cv::setNumThreads(1);
 }
 
+// LaneGrid::build() (lane_grid, issue 25) from the improved mode's lane model of the 640x380
+// frames, at the default size (0.1 m, 40 m x 20 m: 400 x 200 cells) or @p resolution, with or
+// without lane changes allowed. One thread; the grid's cells are reused (steady state).
+void BM_LaneGrid(benchmark::State& state, double resolution, bool allow_lane_change) {
+  Data& d = data(640);
+  LaneDetector det(Params::improved());
+  Result r;
+  for (int i = 0; i < kFrames; ++i) det.detect(d.frames[i].frame(), r);
+  if (!r.lane_model.valid) {
+    state.SkipWithError("no lane model on the bench frames");
+    return;
+  }
+  LaneGridSettings settings;
+  settings.resolution = resolution;
+  settings.allow_lane_change = allow_lane_change;
+  LaneGrid grid;
+  grid.build(r.lane_model, settings);  // sizes the cells
+  for (auto _ : state) {
+    grid.build(r.lane_model, settings);
+    benchmark::DoNotOptimize(grid.cells().data());
+    benchmark::ClobberMemory();
+  }
+  long free_cells = 0;
+  for (int8_t v : grid.cells()) free_cells += v == LaneGrid::kFree;
+  state.counters["cells"] = static_cast<double>(grid.cells().size());
+  state.counters["free_cells"] = static_cast<double>(free_cells);
+  state.SetLabel(std::to_string(grid.cols()) + "x" + std::to_string(grid.rows()) + " cells");
+}
+
 void BM_OpenCV_Pipeline(benchmark::State& state) {
   Data& d = data(static_cast<int>(state.range(0)));
   OpenCvPipeline cv_pipe;
@@ -311,6 +341,9 @@ BENCHMARK(BM_DetectImproved)->Apply(sizes);
 BENCHMARK(BM_DetectFullG)->Apply(sizes);
 BENCHMARK(BM_Detect2)->Apply(sizes)->UseRealTime();
 BENCHMARK(BM_OpenCV_Pipeline)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_LaneGrid, Default, 0.1, false)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
+BENCHMARK_CAPTURE(BM_LaneGrid, LaneChange, 0.1, true)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
+BENCHMARK_CAPTURE(BM_LaneGrid, Fine5cm, 0.05, false)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
 BENCHMARK(BM_Stage_HalfBinary)->Apply(sizes);
 BENCHMARK(BM_Stage_Points)->Apply(sizes);
 BENCHMARK(BM_Stage_Normals)->Apply(sizes);

@@ -23,6 +23,7 @@ set(RLD_CORE_SOURCES
   src/core/boundary_candidates.cpp
   src/core/lane_fitter.cpp
   src/core/lane_model.cpp
+  src/core/lane_grid.cpp
   src/core/lane_tracker.cpp
   src/core/overlay.cpp
   src/core/simd.cpp
@@ -50,4 +51,5 @@ set(RLD_CORE_TESTS
   test_adaptive_threshold
   test_allocations
   test_lane_model
+  test_lane_grid
 )

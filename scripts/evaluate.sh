@@ -8,7 +8,8 @@
 #     with the LiDAR depth and with depth from the colour stereo pair (StereoSGBM), which is
 #     itself measured against the LiDAR (evaluate_stereo),
 #  3. scores the improved mode's lane model (Result::lane_model) against the true lane model
-#     (tools/include/rgbd_lane_detector_tools/lane_model_scoring.h), refits the confidence
+#     (tools/include/rgbd_lane_detector_tools/lane_model_scoring.h) and the lane grid built from
+#     it against the true boundaries (lane_grid_scoring.h), refits the confidence
 #     calibration on these sequences (tools/scripts/fit_confidence.py) and checks the lane model
 #     on held-out sequences of another seed (HELDOUT_SEED, HELDOUT_FRAMES),
 #  4. writes the generated part of docs/RESULTS.md, the overlay pictures and score plots of
@@ -165,6 +166,14 @@ fi
   echo "(seed $SEED) and, held out, the same scenarios with seed ${HELDOUT_SEED:-(none)}."
   echo
   cat "$EVAL_DIR/lane_model.md"
+  if [ -f "$EVAL_DIR/lane_grid.md" ]; then
+    echo "### Lane grid table (issue 25)"
+    echo
+    echo "The \`lane_grid\` occupancy grid built from that lane model (\`LaneGrid\`, default size) against"
+    echo "the true boundaries (\`tools/include/rgbd_lane_detector_tools/lane_grid_scoring.h\`), seed $SEED."
+    echo
+    cat "$EVAL_DIR/lane_grid.md"
+  fi
   if [ -n "$HELDOUT_SEED" ] && [ -f "$EVAL_DIR/heldout/lane_model.md" ]; then
     echo "Held out: the same $((${#SEQUENCES[@]})) scenarios generated with seed $HELDOUT_SEED ($HELDOUT_FRAMES frames"
     echo "each), scored the same way; the confidence calibration was fitted on seed $SEED only."

@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/lane_fitter.h"
+#include "rgbd_lane_detector/lane_grid.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -36,5 +37,16 @@ void drawOverlay(const cv::Mat& colour, PixelFormat format, const Intrinsics& K,
  * @param[in,out] out overlay image (drawOverlay()'s output).
  */
 void drawCandidates(const BoundaryCandidate* candidates, int count, cv::Mat& out);
+
+/**
+ * @brief Draw the lane grid as a bird's-eye inset in the bottom-right corner of an overlay:
+ * x (forward) up, y (left) to the left, the vehicle at the bottom centre, a tick every 10 m;
+ * occupied cells red, crossable yellow, free green, unknown the picture darkened. Each inset
+ * pixel shows the most important of the cells it covers (occupied > crossable > free > unknown),
+ * so one-cell lines stay visible at any scale. Its height is 45% of the picture's.
+ * @param[in] grid the frame's lane grid.
+ * @param[in,out] out overlay image (bgr8; drawOverlay()'s output); unchanged when too small.
+ */
+void drawLaneGridInset(const LaneGrid& grid, cv::Mat& out);
 
 }  // namespace rgbd_lane_detector

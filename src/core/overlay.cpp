@@ -1,5 +1,6 @@
 #include "rgbd_lane_detector/overlay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -139,6 +140,55 @@ void drawCandidates(const BoundaryCandidate* candidates, int count, cv::Mat& out
     const cv::Point2f at = px[px.size() / 2] + cv::Point2f(6.f, 0.f);
     cv::putText(out, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.35, colour, 1, cv::LINE_AA);
   }
+}
+
+void drawLaneGridInset(const LaneGrid& grid, cv::Mat& out) {
+  const int h = static_cast<int>(0.45 * out.rows);
+  const int w = grid.cols() > 0 ? h * grid.rows() / grid.cols() : 0;
+  const int margin = 8;
+  if (out.type() != CV_8UC3 || h < 16 || w < 4 || w + 2 * margin > out.cols ||
+      h + 2 * margin > out.rows)
+    return;
+  const int u0 = out.cols - margin - w, v0 = out.rows - margin - h;
+  auto rank = [](int8_t v) {  // what an inset pixel shows of the cells it covers
+    return v == LaneGrid::kOccupied ? 3 : v == LaneGrid::kCrossable ? 2 : v == LaneGrid::kFree ? 1 : 0;
+  };
+  const cv::Vec3b colours[4] = {cv::Vec3b(0, 0, 0), cv::Vec3b(60, 200, 60), cv::Vec3b(0, 220, 255),
+                                cv::Vec3b(40, 40, 255)};
+  for (int v = 0; v < h; ++v) {
+    // rows of the picture: x from the far end (top) to the vehicle (bottom)
+    const int c_lo = (h - 1 - v) * grid.cols() / h;
+    const int c_hi = std::max(c_lo, (h - v) * grid.cols() / h - 1);
+    cv::Vec3b* px = out.ptr<cv::Vec3b>(v0 + v) + u0;
+    for (int u = 0; u < w; ++u, ++px) {
+      // columns of the picture: y from the left end (left) to the right end (right)
+      const int r_lo = (w - 1 - u) * grid.rows() / w;
+      const int r_hi = std::max(r_lo, (w - u) * grid.rows() / w - 1);
+      int best = 0;
+      for (int c = c_lo; c <= c_hi && best < 3; ++c)
+        for (int r = r_lo; r <= r_hi; ++r) best = std::max(best, rank(grid.at(r, c)));
+      if (best == 0) {
+        *px = cv::Vec3b((*px)[0] / 3, (*px)[1] / 3, (*px)[2] / 3);
+      } else {
+        const cv::Vec3b& c = colours[best];
+        *px = cv::Vec3b(static_cast<uchar>(((*px)[0] + 3 * c[0]) / 4),
+                        static_cast<uchar>(((*px)[1] + 3 * c[1]) / 4),
+                        static_cast<uchar>(((*px)[2] + 3 * c[2]) / 4));
+      }
+    }
+  }
+  cv::rectangle(out, cv::Rect(u0 - 1, v0 - 1, w + 2, h + 2), kRoiColour, 1);
+  const double length = grid.cols() * grid.resolution();
+  for (double x = 10.0; x < length; x += 10.0) {  // a tick every 10 m
+    const int v = v0 + h - 1 - static_cast<int>(std::lround(x / length * h));
+    cv::line(out, cv::Point(u0 - 5, v), cv::Point(u0 - 1, v), kRoiColour, 1);
+  }
+  // the vehicle at y = 0 (the grid's middle when it is centred), x = 0
+  const int uc = u0 + static_cast<int>(std::lround(w * (grid.originY() + grid.rows() * grid.resolution()) /
+                                                   (grid.rows() * grid.resolution())));
+  const cv::Point tip(uc, v0 + h - 7), l(uc - 4, v0 + h + 1), r(uc + 4, v0 + h + 1);
+  cv::line(out, l, tip, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  cv::line(out, tip, r, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
 }
 
 }  // namespace rgbd_lane_detector

@@ -509,6 +509,22 @@ void fillLaneModel(const LaneModelEstimate& model, const std_msgs::Header& heade
   }
 }
 
+void fillOccupancyGrid(const LaneGrid& grid, const std_msgs::Header& header,
+                       nav_msgs::OccupancyGrid& msg) {
+  msg.header = header;
+  msg.info.map_load_time = header.stamp;
+  msg.info.resolution = static_cast<float>(grid.resolution());
+  msg.info.width = static_cast<uint32_t>(grid.cols());
+  msg.info.height = static_cast<uint32_t>(grid.rows());
+  msg.info.origin.position.x = grid.originX();
+  msg.info.origin.position.y = grid.originY();
+  msg.info.origin.position.z = 0.0;
+  msg.info.origin.orientation.x = msg.info.origin.orientation.y = 0.0;
+  msg.info.origin.orientation.z = 0.0;
+  msg.info.origin.orientation.w = 1.0;
+  msg.data.assign(grid.cells().begin(), grid.cells().end());
+}
+
 void appendLaneModelMarkers(const LaneModelEstimate& model, const std_msgs::Header& header,
                             visualization_msgs::MarkerArray& msg, double step) {
   for (const LaneBoundaryModel& b : model.boundaries) {

@@ -9,6 +9,7 @@
 #include <exception>
 #include <stdexcept>
 
+#include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Path.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
@@ -141,6 +142,7 @@ void LaneDetectorNodelet::onInit() {
                                                                connect_cb);
   pub_model_ = nh.advertise<LaneModel>("lane_model", 5, connect_cb, connect_cb);
   pub_centre_ = nh.advertise<nav_msgs::Path>("lane_centre_line", 5, connect_cb, connect_cb);
+  pub_grid_ = nh.advertise<nav_msgs::OccupancyGrid>("lane_grid", 5, connect_cb, connect_cb);
   pub_left_ = it_->advertise("response/left", 1, image_connect_cb, image_connect_cb);
   pub_right_ = it_->advertise("response/right", 1, image_connect_cb, image_connect_cb);
   pub_geometric_ = it_->advertise("response/geometric", 1, image_connect_cb, image_connect_cb);
@@ -302,6 +304,7 @@ LaneDetectorNodelet::Wanted LaneDetectorNodelet::wantedOutputs() const {
   w.markers = pub_markers_.getNumSubscribers() > 0;
   w.model = pub_model_.getNumSubscribers() > 0;
   w.centre = pub_centre_.getNumSubscribers() > 0;
+  w.grid = pub_grid_.getNumSubscribers() > 0;
   w.left = pub_left_.getNumSubscribers() > 0;
   w.right = pub_right_.getNumSubscribers() > 0;
   w.geometric = pub_geometric_.getNumSubscribers() > 0;
@@ -507,13 +510,22 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
     if (wanted.centre) pub_centre_.publish(boost::make_shared<nav_msgs::Path>(msg->centre_line));
     if (wanted.model) pub_model_.publish(msg);
   }
+  // the lane grid: for lane_grid and the debug image's inset (its buffer is reused)
+  const bool grid_inset = wanted.debug && frame_params_.lane_model;
+  if (wanted.grid || grid_inset)
+    lane_grid_.build(result_.lane_model, laneGridSettings(frame_params_));
+  if (wanted.grid) {
+    auto msg = boost::make_shared<nav_msgs::OccupancyGrid>();
+    conv::fillOccupancyGrid(lane_grid_, model_header, *msg);
+    pub_grid_.publish(msg);
+  }
   if (wanted.markers) {
     auto msg = boost::make_shared<visualization_msgs::MarkerArray>();
     conv::fillLaneMarkers(result_, out_header, T, *msg);
     conv::appendLaneModelMarkers(result_.lane_model, model_header, *msg);
     pub_markers_.publish(msg);
   }
-  if ((wanted.model || wanted.centre || wanted.markers) && !vehicle_frame_found_ &&
+  if ((wanted.model || wanted.centre || wanted.markers || wanted.grid) && !vehicle_frame_found_ &&
       result_.plane.valid) {
     // the road-aligned fallback frame, so that rviz and users can place the model
     geometry_msgs::TransformStamped tf = tf2::eigenToTransform(roadAlignedFrame(result_.plane).inverse());
@@ -540,6 +552,7 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
                                      sensor_msgs::image_encodings::BGR8, image_header, *msg);
     const uchar* data = out.data;
     drawOverlay(frame.colour, frame.format, frame.intrinsics, result_, frame_params_, out);
+    if (grid_inset) drawLaneGridInset(lane_grid_, out);
     if (out.data != data) {  // drawn elsewhere (size changed): copy into the message
       const cv::Mat drawn = out;
       out = conv::prepareImage(drawn.rows, drawn.cols, CV_8UC3, sensor_msgs::image_encodings::BGR8,

@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/lane_grid.h"
 #include "synthetic_scene.h"
 
 // The sanitizers own malloc: under them (make test-sanitize) the counter is compiled out and the
@@ -149,6 +150,34 @@ TEST(Allocations, SteadyStateDetectAllocatesNothing) {
     }
   }
   cv::setNumThreads(1);
+}
+
+// The lane grid (lane_grid, the debug inset) rebuilt from every frame's lane model reuses its
+// cells: after the first build at a size, none allocates, with lane changes allowed or not.
+TEST(Allocations, SteadyStateLaneGridAllocatesNothing) {
+  if (!RLD_COUNT_ALLOCATIONS) GTEST_SKIP() << "the sanitizer's allocator replaces the counting one";
+  const Drive drive = makeDrive(640, 380);
+  LaneDetector det(Params::improved());
+  Result r;
+  LaneGrid grid;
+  LaneGridSettings settings;
+  for (int i = 0; i < 8; ++i) {
+    ASSERT_EQ(det.detect(frameOf(drive, i), r), Status::kOk);
+    grid.build(r.lane_model, settings);
+  }
+  long free_cells = 0;
+  g_allocations = 0;
+  g_counting = true;
+  for (int i = 0; i < 12; ++i) {
+    det.detect(frameOf(drive, i), r);
+    settings.allow_lane_change = i % 2 == 0;
+    grid.build(r.lane_model, settings);
+    for (int8_t v : grid.cells()) free_cells += v == LaneGrid::kFree;
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0) << "first allocation: " << g_first_size.load() << " bytes";
+  EXPECT_TRUE(r.lane_model.valid);
+  EXPECT_GT(free_cells, 0) << "the grids hold a lane";
 }
 
 TEST(Allocations, TheCounterSeesEveryAllocator) {

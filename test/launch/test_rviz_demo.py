@@ -11,8 +11,9 @@
    framebuffer (XWD format) and checks, until all pass or the time limit:
    - the overlay image panel shows a picture (many distinct colours, few black pixels),
    - both response map panels show bright response ridges,
-   - the 3D view shows the lane points (the point cloud's magenta / cyan squares) and the
-     grid over the background;
+   - the 3D view shows the lane points (the point cloud's magenta / cyan squares), the lane
+     grid (the Map display of lane_grid: its unknown cells, 0x708986 at alpha 0.5, blend
+     grey-green into the background) and the grid over the background;
 4. writes a JUnit result (--xunit) and the screenshot (--screenshot), stops what it started.
 rviz dying at any point is a test error (with the tail of its log). Exit status 0 when every
 check passed.
@@ -39,6 +40,8 @@ except ImportError:  # only needed to write the PNG
 
 BACKGROUND = np.array([48, 48, 48])  # rviz background of the shipped config (RGB)
 POINT_COLOURS = [np.array([255, 0, 255]), np.array([0, 255, 255])]  # left, right lane points
+# lane_grid's unknown cells in the Map display (costmap scheme, alpha 0.5) over the background
+GRID_UNKNOWN = (0.5 * np.array([0x70, 0x89, 0x86]) + 0.5 * BACKGROUND).astype(int)
 
 
 def free_port():
@@ -139,6 +142,9 @@ def check(shot, windows):
     v = crop(view)
     points = int(sum(np.sum(near(v, c, 40)) for c in POINT_COLOURS))
     results.append(("3D view: lane points (PointCloud2)", points > 40, "%d magenta/cyan pixels" % points))
+    grid = int(np.sum(near(v, GRID_UNKNOWN, 12)))
+    results.append(("3D view: lane grid (Map of lane_grid)", grid > 2000,
+                    "%d grey-green pixels" % grid))
     drawn = float(np.mean(np.any(np.abs(v.astype(int) - BACKGROUND) > 12, axis=2)))
     results.append(("3D view: grid and markers over the background", drawn > 0.01,
                     "%.1f%% of the view differs from the background" % (100 * drawn)))

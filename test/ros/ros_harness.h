@@ -38,6 +38,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <rgbd_lane_detector/LaneDetectorConfig.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Path.h>
 #include <rgbd_lane_detector/LaneMarkings.h>
 #include <rgbd_lane_detector/LaneModel.h>
@@ -358,6 +359,7 @@ struct Outputs {
   Collector<visualization_msgs::MarkerArray> markers;
   Collector<LaneModel> model;
   Collector<nav_msgs::Path> centre;
+  Collector<nav_msgs::OccupancyGrid> grid;
   Collector<sensor_msgs::Image> left, right, geometric, debug;
   void subscribeAll(ros::NodeHandle& nh) {
     plane.subscribe(nh, "lane_plane");

@@ -1,4 +1,5 @@
 // Unit tests of the message <-> core conversions (no ROS master needed).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -572,6 +573,57 @@ TEST(Conversions, ImagesFromMaps) {
   EXPECT_EQ(bgr.step, 15u);
   out.setTo(cv::Scalar(1, 2, 3));
   EXPECT_EQ(bgr.data[14], 3);
+}
+
+// lane_grid: the grid's cells in OccupancyGrid order; a point of the vehicle frame finds its
+// cell through info alone (origin, resolution, width), as costmap_2d and rviz read it.
+TEST(Conversions, OccupancyGridOfTheLaneGrid) {
+  LaneModelEstimate m;
+  m.valid = true;
+  for (int side = 0; side < 2; ++side) {
+    LaneBoundaryModel& b = m.boundaries[side];
+    b.valid = true;
+    b.position = static_cast<BoundaryPosition>(side);
+    b.c = {side == 0 ? 1.6 : -1.9, 0.02, 0.0, 0.0};
+    b.x_min = 4.0;
+    b.x_max = 25.0;
+    b.lateral_std = 0.05f;
+  }
+  LaneGridSettings s;
+  s.resolution = 0.2;
+  s.length = 30.0;
+  s.width = 12.0;
+  LaneGrid grid;
+  grid.build(m, s);
+  std_msgs::Header header;
+  header.stamp = ros::Time(12, 345);
+  header.frame_id = "base_link";
+  nav_msgs::OccupancyGrid msg;
+  conv::fillOccupancyGrid(grid, header, msg);
+  EXPECT_EQ(msg.header.stamp, header.stamp);
+  EXPECT_EQ(msg.header.frame_id, "base_link");
+  EXPECT_EQ(msg.info.map_load_time, header.stamp);
+  EXPECT_FLOAT_EQ(msg.info.resolution, 0.2f);
+  ASSERT_EQ(msg.info.width, 150u);
+  ASSERT_EQ(msg.info.height, 60u);
+  EXPECT_DOUBLE_EQ(msg.info.origin.position.x, 0.0);
+  EXPECT_DOUBLE_EQ(msg.info.origin.position.y, -6.0);
+  EXPECT_DOUBLE_EQ(msg.info.origin.orientation.w, 1.0);
+  ASSERT_EQ(msg.data.size(), grid.cells().size());
+  EXPECT_TRUE(std::equal(msg.data.begin(), msg.data.end(), grid.cells().begin()));
+  auto at = [&](double x, double y) {
+    const int col = static_cast<int>(std::floor((x - msg.info.origin.position.x) / msg.info.resolution));
+    const int row = static_cast<int>(std::floor((y - msg.info.origin.position.y) / msg.info.resolution));
+    return msg.data[static_cast<size_t>(row) * msg.info.width + col];
+  };
+  for (double x : {5.03, 10.13, 20.33}) {  // off the cell edges
+    SCOPED_TRACE(x);
+    EXPECT_EQ(at(x, 1.6 + 0.02 * x), LaneGrid::kOccupied);
+    EXPECT_EQ(at(x, -1.9 + 0.02 * x), LaneGrid::kOccupied);
+    EXPECT_EQ(at(x, -0.15 + 0.02 * x), LaneGrid::kFree);
+    EXPECT_EQ(at(x, 3.0), LaneGrid::kUnknown);
+  }
+  EXPECT_EQ(at(2.0, 0.0), LaneGrid::kUnknown);  // before the published range
 }
 
 }  // namespace

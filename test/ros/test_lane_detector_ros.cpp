@@ -106,6 +106,8 @@ TEST(LaneDetectorRos, LazySubscription) {
       {"lane_centre_line", [&](bool on) {
          on ? out.centre.subscribe(g->nh, "lane_centre_line") : out.centre.shutdown();
        }},
+      {"lane_grid",
+       [&](bool on) { on ? out.grid.subscribe(g->nh, "lane_grid") : out.grid.shutdown(); }},
       {"response/geometric", [&](bool on) {
          on ? out.geometric.subscribe(g->nh, "response/geometric") : out.geometric.shutdown();
        }}};
@@ -231,14 +233,26 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
 // centre of a 3.6 m lane, a dashed white line on the left and a solid one on the right, straight
 // and level. Every frame is answered on lane_model with the image's stamp; after kModelFrames
 // frames the model's geometry, labels, kinds and colours are the road's.
-TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
-  g->prepare();
+/// The detector's mode parameter (improved when unset).
+std::string detectorMode() {
   std::string mode;
   ros::param::param<std::string>(g->detector + "/mode", mode, "improved");
-  if (mode == "paper") GTEST_SKIP() << "paper mode tracks no lane model";
+  return mode;
+}
+
+/// The road of the lane-model tests: the vehicle 0.3 m right of the lane centre, the left line
+/// dashed.
+test::RoadScene laneScene() {
   test::RoadScene scene = g->scene;
   scene.lateral_offset = 0.3;  // + right of the lane centre
   scene.left_dashed = true;
+  return scene;
+}
+
+TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
+  g->prepare();
+  if (detectorMode() == "paper") GTEST_SKIP() << "paper mode tracks no lane model";
+  const test::RoadScene scene = laneScene();
   const InputSet in = g->inputsOf(scene);
   Outputs out;
   out.model.subscribe(g->nh, "lane_model");
@@ -315,6 +329,66 @@ TEST(LaneDetectorRos, LaneModelMatchesTheRoad) {
     EXPECT_GT(p.pose.position.x, previous);
     previous = p.pose.position.x;
     EXPECT_NEAR(p.pose.position.y, d, 0.15) << "at x = " << p.pose.position.x;
+  }
+}
+
+// lane_grid on the same road as LaneModelMatchesTheRoad: every frame answered with the image's
+// stamp in the lane model's frame, at the default size; after kGridFrames frames the true lines
+// (2.1 m left and 1.5 m right of the vehicle) are occupied within one cell, the lane between them
+// free, the cells half a metre beyond them not free. Paper mode (no lane model): all unknown.
+TEST(LaneDetectorRos, LaneGridMatchesTheRoad) {
+  g->prepare();
+  const std::string mode = detectorMode();
+  const test::RoadScene scene = laneScene();
+  const InputSet in = g->inputsOf(scene);
+  Outputs out;
+  out.grid.subscribe(g->nh, "lane_grid");
+  ASSERT_TRUE(waitFor([&] { return out.grid.numPublishers() > 0 && inputsSubscribed(true); }))
+      << "lane_grid never connected";
+  constexpr int kGridFrames = 15;
+  nav_msgs::OccupancyGrid::ConstPtr grid;
+  int answered = 0;
+  ros::Time stamp;
+  ASSERT_TRUE(waitFor([&] {
+    stamp = g->publish(in);
+    if (!waitFor([&] { return static_cast<bool>(out.grid.withStamp(stamp)); }, nullptr,
+                 kPaceTimeout * 3))
+      return false;
+    grid = out.grid.withStamp(stamp);
+    return ++answered >= kGridFrames;
+  })) << answered << " of " << kGridFrames << " frames answered on lane_grid";
+
+  EXPECT_EQ(grid->header.stamp, stamp);
+  EXPECT_EQ(grid->header.frame_id, g->modelFrame());
+  EXPECT_FLOAT_EQ(grid->info.resolution, 0.1f);
+  ASSERT_EQ(grid->info.width, 400u);
+  ASSERT_EQ(grid->info.height, 200u);
+  ASSERT_EQ(grid->data.size(), 400u * 200u);
+  EXPECT_DOUBLE_EQ(grid->info.origin.position.x, 0.0);
+  EXPECT_DOUBLE_EQ(grid->info.origin.position.y, -10.0);
+  EXPECT_DOUBLE_EQ(grid->info.origin.orientation.w, 1.0);
+  auto cell = [&](double x, double y) {
+    const int col = static_cast<int>(std::floor(x / 0.1));
+    const int row = static_cast<int>(std::floor((y + 10.0) / 0.1));
+    return grid->data[static_cast<size_t>(row) * grid->info.width + col];
+  };
+  if (mode == "paper") {
+    for (int8_t v : grid->data) ASSERT_EQ(v, -1) << "paper mode tracks no lane model";
+    return;
+  }
+  const double w = scene.lane_width, d = scene.lateral_offset;
+  const double left = 0.5 * w + d, right = -0.5 * w + d;
+  for (double x = 6.0; x <= 14.0; x += 2.0) {
+    SCOPED_TRACE(testing::Message() << "x " << x);
+    for (double y : {left, right}) {
+      bool occupied = false;
+      for (double dx : {-0.1, 0.0, 0.1})
+        for (double dy : {-0.1, 0.0, 0.1}) occupied = occupied || cell(x + dx, y + dy) == 100;
+      EXPECT_TRUE(occupied) << "the line at y " << y;
+    }
+    for (double y = right + 0.3; y <= left - 0.3; y += 0.1) EXPECT_EQ(cell(x, y), 0) << "y " << y;
+    EXPECT_NE(cell(x, left + 0.5), 0) << "beyond the left line";
+    EXPECT_NE(cell(x, right - 0.5), 0) << "beyond the right line";
   }
 }
 

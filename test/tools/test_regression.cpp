@@ -9,6 +9,7 @@
 #include "rgbd_lane_detector_tools/scoring.h"
 #include "rgbd_lane_detector_tools/synth/renderer.h"
 #include "rgbd_lane_detector_tools/synth/sequence_writer.h"
+#include "rendered_frame.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -40,13 +41,7 @@ const Rates& measure() {
     for (int i = 0; i < s.frames; ++i) {
       renderer.render(i, f);
       // exactly what a SYNTHIA reader hands over: uint16 centimetres
-      synth::encodeDepthCentimetres(f.depth, cm3);
-      cv::extractChannel(cm3, cm, 0);
-      Frame frame;
-      frame.colour = f.bgr;
-      frame.depth = cm;
-      frame.depth_scale = 0.01;
-      frame.intrinsics = renderer.intrinsics();
+      const Frame frame = test::synthiaFrame(f, renderer.intrinsics(), cm3, cm);
       const tools::FrameTruth truth = renderer.truth(i);
       improved.detect(frame, result);
       r.improved.add(tools::scoreFrame(tools::detectionFromResult(result), truth),

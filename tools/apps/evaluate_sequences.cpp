@@ -3,7 +3,8 @@
 // plus real data without it (KITTI plane check against the LiDAR depth, TUM frames without any
 // lane). Writes a Markdown report, a per-frame CSV and an overlay picture per sequence; the lane
 // model (issue 14) is scored against the true lane model (lane_model_scoring.h) into its own
-// Markdown report and per-boundary CSV.
+// Markdown report and per-boundary CSV, and the lane grid built from it (issue 25) against the
+// true boundaries (lane_grid_scoring.h) into another Markdown table.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,10 +19,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/lane_grid.h"
 #include "rgbd_lane_detector/overlay.h"
 #include "rgbd_lane_detector_tools/command_line.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 #include "rgbd_lane_detector_tools/detector_setup.h"
+#include "rgbd_lane_detector_tools/lane_grid_scoring.h"
 #include "rgbd_lane_detector_tools/lane_model_report.h"
 #include "rgbd_lane_detector_tools/params_io.h"
 #include "rgbd_lane_detector_tools/plane_check.h"
@@ -120,6 +123,7 @@ int main(int argc, char** argv) {
   std::string out_dir = "build/eval", markdown, csv_path, images_dir;
   std::string picture_modes = "paper,improved";
   std::string model_modes = "improved", model_markdown, model_csv_path, model_suffix;
+  std::string grid_markdown;
   int picture_frame = -1, max_frames = -1;
   bool quiet = false;
   tools::CommandLine cl(
@@ -159,6 +163,9 @@ int main(int argc, char** argv) {
          &model_csv_path);
   cl.add("lane-model-suffix", "text appended to the lane-model section titles (e.g. ', seed 2')",
          &model_suffix);
+  cl.add("lane-grid-markdown",
+         "Markdown of the lane grid's scores, for the lane-model modes (default <out>/lane_grid.md)",
+         &grid_markdown);
   cl.addFlag("quiet", "no progress bars", &quiet);
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
@@ -229,11 +236,13 @@ int main(int argc, char** argv) {
   if (images_dir.empty()) images_dir = (fs::path(out_dir) / "images").string();
   if (model_markdown.empty()) model_markdown = (fs::path(out_dir) / "lane_model.md").string();
   if (model_csv_path.empty()) model_csv_path = (fs::path(out_dir) / "lane_model.csv").string();
+  if (grid_markdown.empty()) grid_markdown = (fs::path(out_dir) / "lane_grid.md").string();
   std::error_code ec;
   for (const std::string& d :
        {out_dir, images_dir, fs::path(markdown).parent_path().string(),
         fs::path(csv_path).parent_path().string(), fs::path(model_markdown).parent_path().string(),
-        fs::path(model_csv_path).parent_path().string()}) {
+        fs::path(model_csv_path).parent_path().string(),
+        fs::path(grid_markdown).parent_path().string()}) {
     if (!d.empty()) fs::create_directories(d, ec);
   }
   std::ofstream csv(csv_path), model_csv(model_csv_path);
@@ -242,6 +251,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   tools::LaneModelReport model_report(&model_csv);
+  tools::LaneGridReport grid_report;
+  LaneGrid grid;
   csv << "sequence,mode,frame,outcome,lane_required,reported,plane_valid,plane_ok,"
          "angle_error_deg,offset_error";
   for (const char* side : {"left", "right"})
@@ -324,15 +335,30 @@ int main(int argc, char** argv) {
         const tools::Detection det = tools::detectionFromResult(r);
         // real data: a lane is reported when a side is (a plane alone is the road surface)
         const bool reported = det.left_reported || det.right_reported;
-        if (n == pic)
+        // the lane grid of a scored lane model: the default grid and one allowing lane changes
+        LaneGridSettings grid_settings = laneGridSettings(detectors[m]->params());
+        if (n == pic) {
           drawOverlay(f.colour, f.format, f.intrinsics, r, detectors[m]->params(), pictures[m]);
+          if (score_model[m]) {
+            grid.build(r.lane_model, grid_settings);
+            drawLaneGridInset(grid, pictures[m]);
+          }
+        }
         if (in.kind == Input::kTruth) {
           if (!t) continue;
           const tools::FrameScore s = tools::scoreFrame(det, *t);
           summaries[m].add(s, r.timings.total);
-          if (score_model[m])
+          if (score_model[m]) {
             model_report.add(in.name, modes[m].name, f.index,
                              tools::scoreLaneModel(r.lane_model, *t));
+            grid_settings.allow_lane_change = false;
+            grid.build(r.lane_model, grid_settings);
+            const tools::LaneGridScore ego = tools::scoreLaneGrid(grid, r.lane_model, *t, false);
+            grid_settings.allow_lane_change = true;
+            grid.build(r.lane_model, grid_settings);
+            grid_report.add(in.name, modes[m].name, f.index, ego,
+                            tools::scoreLaneGrid(grid, r.lane_model, *t, true));
+          }
           csv << in.name << "," << modes[m].name << "," << f.index << ","
               << tools::outcomeName(s.outcome) << "," << s.lane_required << "," << s.reported
               << "," << s.plane_valid << "," << s.plane_ok << ","
@@ -478,6 +504,12 @@ int main(int argc, char** argv) {
   if (!model_report.empty()) model_report.writeMarkdown(model_md, model_suffix);
   if (!model_md || !model_csv) {
     std::cerr << "evaluate_sequences: cannot write " << model_markdown << "\n";
+    return 1;
+  }
+  std::ofstream grid_md(grid_markdown);
+  if (!grid_report.empty()) grid_report.writeMarkdown(grid_md, model_suffix);
+  if (!grid_md) {
+    std::cerr << "evaluate_sequences: cannot write " << grid_markdown << "\n";
     return 1;
   }
   return 0;

@@ -20,6 +20,7 @@
 #include <rgbd_lane_detector/LaneMarkings.h>
 #include <rgbd_lane_detector/LaneModel.h>
 #include <rgbd_lane_detector/LanePlane.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -28,6 +29,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "rgbd_lane_detector/disparity_depth.h"
+#include "rgbd_lane_detector/lane_grid.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -218,6 +220,16 @@ constexpr const char* kModelNs = "lane_model";
  */
 void appendLaneModelMarkers(const LaneModelEstimate& model, const std_msgs::Header& header,
                             visualization_msgs::MarkerArray& msg, double step = 1.0);
+
+/**
+ * @brief lane_grid: the lane grid as an occupancy grid in the vehicle frame (info.origin the
+ * grid's corner (0, -width / 2, 0), identity orientation; data row-major, rows along y).
+ * @param[in] grid built from this frame's lane model.
+ * @param[in] header stamp of the input image, frame_id of the lane model's vehicle frame.
+ * @param[out] msg filled (map_load_time = the stamp).
+ */
+void fillOccupancyGrid(const LaneGrid& grid, const std_msgs::Header& header,
+                       nav_msgs::OccupancyGrid& msg);
 
 /**
  * @brief Copy a single-channel float map (the response maps) into an image message (32FC1).

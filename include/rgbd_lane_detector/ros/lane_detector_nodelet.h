@@ -34,6 +34,7 @@
 #include <rgbd_lane_detector/LaneDetectorConfig.h>
 
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/lane_grid.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -62,9 +63,10 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   struct Wanted {
     bool plane = false, markings = false, points = false, markers = false, model = false;
     bool centre = false;  ///< lane_centre_line
+    bool grid = false;    ///< lane_grid
     bool left = false, right = false, geometric = false, debug = false;
     bool any() const {
-      return plane || markings || points || markers || model || centre || left || right ||
+      return plane || markings || points || markers || model || centre || grid || left || right ||
              geometric || debug;
     }
   };
@@ -129,6 +131,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
 
   // --- outputs -----------------------------------------------------------------------------
   ros::Publisher pub_plane_, pub_markings_, pub_points_, pub_markers_, pub_model_, pub_centre_;
+  ros::Publisher pub_grid_;  ///< lane_grid (nav_msgs/OccupancyGrid)
   image_transport::Publisher pub_left_, pub_right_, pub_geometric_, pub_debug_;
 
   // --- parameters: written by configCallback, read by frameCallback ------------------------------
@@ -141,6 +144,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   // --- frame state (frame callbacks are serialised on the nodelet's callback queue) -----------
   LaneDetector detector_;
   Result result_;
+  LaneGrid lane_grid_;  ///< built from result_.lane_model for lane_grid and the debug inset
   Params frame_params_;  ///< parameters the detector runs with
   uint64_t applied_version_ = 0;
   cv::Mat depth_swap_;  ///< byte-swapped depth (foreign-endian streams only)
