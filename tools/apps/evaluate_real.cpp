@@ -265,15 +265,17 @@ int main(int argc, char** argv) {
             // reference plane: RANSAC on the LiDAR (or the sensor's) road points
             Eigen::Vector3d n(0, -1, 0);
             double d = 0.0;
-            row.have_reference = f.referenceRoadPlane(n, d);
-            if (label->lane && !row.have_reference) {
+            const bool have_plane = f.referenceRoadPlane(n, d);
+            // the plane check: frames with a LiDAR (an RGB-D sensor's own depth is no reference)
+            row.have_reference = have_plane && (!f.lidar_depth.empty() || f.has_road_plane);
+            if (label->lane && !have_plane) {
               std::cerr << "evaluate_real: no reference road plane for " << ds << "/" << f.name
                         << ": its labels cannot be placed\n";
               return 1;
             }
             row.score = tools::scoreRealFrame(result, *label, f.intrinsics, n, d, rules);
             row.plane = result.status == Status::kOk && result.plane.valid;
-            if (row.plane && row.have_reference) {
+            if (row.plane && have_plane) {
               row.plane_angle =
                   std::acos(std::min(1.0, std::fabs(n.dot(result.plane.normal)))) * 180.0 / M_PI;
               row.plane_offset = std::fabs(d - result.plane.distance);
