@@ -66,6 +66,13 @@ void classifierInputOf(const CandidateFrame& f, const PlaneEstimate& plane, Clas
  */
 class BoundaryCandidateFinder {
  public:
+  /// Rows a followed line is reserved for (it grows past them once, on a taller image).
+  static constexpr size_t kReservedRows = 2048;
+  BoundaryCandidateFinder() {
+    seed_pixels_.reserve(kReservedRows);
+    seed_points_.reserve(kReservedRows);
+  }
+
   /// Replace the parameters (already sanitised).
   void setParams(const Params& params) { params_ = params; }
 
@@ -139,12 +146,20 @@ class BoundaryCandidateFinder {
   void followPredictedLines(const CandidateFrame& f);
   /// A seed whose trace is too short to tell what it is (a short dash far ahead, a dash whose
   /// matched blob gave no usable angle): the line through it along the road ahead, followed row
-  /// by row across the dash gaps (BoundaryClassifier::followLine). False when no line is found.
-  bool followFromSeed(const CandidateFrame& f, MarkerTrace& m);
+  /// by row across the dash gaps (BoundaryClassifier::followLine), when the seed is a measured
+  /// road point where an ego-lane boundary can be (boundary_offset_min/max on its side @p left).
+  /// False when no line is found.
+  bool followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m);
   /// A followed painted line (input pixels, near to far) is one stroke of paint shorter than any
   /// lane line shows (a turn arrow's shaft, a stop line's stub): paint on a single stretch of
   /// road under 8 m, where a dashed line shows two dashes and a solid line more length.
   bool loneStroke(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels) const;
+  /// seed_pixels_ followed row by row (BoundaryClassifier::followLine, paint sought within
+  /// @p reach): true when enough rows were found (they replace seed_pixels_, with seed_points_).
+  bool followed(const ClassifierInput& in, double reach);
+  /// A followed line (input pixels, near to far) runs ahead on the road: its far end within
+  /// kMaxSeedHeading of straight ahead of its near end (not a car's flank, a kerb turning away).
+  bool runsAhead(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels) const;
   /// Stretches of a followed line (input pixels, near to far) separated by more than @p gap
   /// metres of road without a row found; @p extent: metres from its nearest to its farthest row,
   /// @p painted: metres of it the stretches cover; rows beyond @p max_forward are not counted.

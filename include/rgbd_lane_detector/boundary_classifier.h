@@ -76,6 +76,13 @@ struct ClassifierInput {
  */
 class BoundaryClassifier {
  public:
+  /// m either side of a traced line's column where followLine() seeks its paint by default
+  static constexpr double kTraceReach = 0.15;
+  /// Pixels of a line the per-line buffers are reserved for (they grow past them once, on a
+  /// taller image).
+  static constexpr size_t kReservedPixels = 4096;
+  BoundaryClassifier();
+
   /**
    * @brief Classify one traced line.
    * @param[in] in frame views.
@@ -126,7 +133,7 @@ class BoundaryClassifier {
    */
   int followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                 double max_range, double reach = 0.15);
+                 double max_range, double reach = kTraceReach);
 
   /**
    * @brief A double line (two painted lines side by side, 0.1-0.2 m apart) is one boundary at
@@ -236,8 +243,8 @@ class BoundaryClassifier {
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
   std::vector<float> yellow_;  ///< measurePaint(): yellowness per row (measureRow() uses side_)
   std::vector<signed char> object_;  ///< cutAtObject(): per pixel 1 object, 0 road, 2 off, -1 none
-  std::vector<float> pair_step_, pair_raise_;
-  std::vector<float> far_step_;  ///< classify(): per-row outer - inner at kHeightFar only  ///< classify(): per-row outer - inner, line - inner
+  std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner
+  std::vector<float> far_step_;  ///< classify(): the outer side's step at kHeightFar, per row
   std::vector<float> twin_[2];  ///< centreDoubleLine(): offsets (m) of the second band, per side
   std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start

@@ -44,7 +44,7 @@ namespace rgbd_lane_detector {
  * KITTI's 1242x375); a lane line of 10 cm on a road params.camera_height below the camera has,
  * at the bottom image row v, the width 0.10 (v - cy) / camera_height px whatever the focal
  * length. The automatic scale brings that to 24 px (no resampling when it is already narrower):
- * a 1920x1080 camera is processed at about 850x480, a 640x480 or 1242x375 one as it is.
+ * a 1920x1080 camera is processed at about 1280x720, a 640x480 or 1242x375 one as it is.
  */
 double processingScale(const Params& params, const cv::Size& size, const Intrinsics& intrinsics);
 

@@ -19,7 +19,9 @@ constexpr int kMaxSeedRetries = 4;   // seeds that are no marker looked past per
 constexpr double kFollowGap = 13.0;  // m: dash gaps a followed line crosses (9-12 m on motorways)
 constexpr double kSeedReach = 0.3;   // m: a seed's paint is sought this far either side of it
 constexpr double kSeedSpan = 1.0;    // m: the line through a seed starts this far either side
+constexpr double kMaxSeedHeading = 25.0 * M_PI / 180.0;  // a followed seed's line runs ahead within this
 constexpr double kStrokeGap = 1.0;     // m without paint between two dashes of a followed line
+constexpr double kRowsPerGap = 2.5;    // ... and more than this many image rows' road
 constexpr double kStrokeLength = 8.0;  // m: one stretch of paint this long is a line (no arrow)
 constexpr double kDashGap = 2.0;       // m without a narrow band between two dashes of worn paint
 constexpr int kMinDashes = 2;          // dashes that tell worn paint from a rail ...
@@ -42,6 +44,26 @@ double clampAngle(double angle, bool left) {
   return left ? M_PI - from_h : from_h;
 }
 
+// More candidate slots, each with room for a line followed over kReservedRows image rows: a
+// slot's trace is refilled every frame, by lines of any length, without growing.
+void grow(std::vector<BoundaryCandidate>& cands, int size) {
+  const size_t first = cands.size();
+  cands.resize(size);
+  for (size_t k = first; k < cands.size(); ++k) {
+    MarkerTrace& m = cands[k].trace;
+    m.pixels.reserve(BoundaryCandidateFinder::kReservedRows);
+    m.points.reserve(BoundaryCandidateFinder::kReservedRows);
+    m.scores.reserve(BoundaryCandidateFinder::kReservedRows);
+  }
+}
+
+// A trace cut short by the classifier (cutAtObject: the line ends at a vehicle) keeps its
+// points and scores for its pixels only.
+void matchLengths(MarkerTrace& m) {
+  if (m.points.size() > m.pixels.size()) m.points.resize(m.pixels.size());
+  if (m.scores.size() > m.pixels.size()) m.scores.resize(m.pixels.size());
+}
+
 }  // namespace
 
 void classifierInputOf(const CandidateFrame& f, const PlaneEstimate& plane, ClassifierInput& in) {
@@ -60,7 +82,7 @@ void classifierInputOf(const CandidateFrame& f, const PlaneEstimate& plane, Clas
 
 BoundaryCandidate& BoundaryCandidateFinder::next(int side) {
   std::vector<BoundaryCandidate>& cands = candidates_[side];
-  if (static_cast<int>(cands.size()) <= counts_[side]) cands.resize(counts_[side] + 1);
+  if (static_cast<int>(cands.size()) <= counts_[side]) grow(cands, counts_[side] + 1);
   return cands[counts_[side]];
 }
 
@@ -73,7 +95,7 @@ void BoundaryCandidateFinder::traceLines(const CandidateFrame& f, int side, cv::
   std::vector<BoundaryCandidate>& cands = candidates_[side];
   const int first = counts_[side];
   const int wanted = first + params_.boundary_candidates;
-  if (static_cast<int>(cands.size()) < wanted) cands.resize(wanted);
+  if (static_cast<int>(cands.size()) < wanted) grow(cands, wanted);
   int& count = counts_[side];
   restore_.clear();
   for (int k = 0; k < first; ++k)  // lines traced on another map are not sought again
@@ -337,8 +359,9 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
     for (int k = 0; k < counts_[side]; ++k) {
       BoundaryCandidate& c = candidates_[side][k];
       if (static_cast<int>(c.trace.pixels.size()) < params_.min_marker_points)
-        followFromSeed(f, c.trace);
+        followFromSeed(f, side == 0, c.trace);
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+      matchLengths(c.trace);
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
           c.evidence.narrow_rows >= c.evidence.rows / 2)
         dashedNarrowLine(f, side, c);
@@ -346,8 +369,7 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
                                params_.max_depth);
-        if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_))
-          c.trace.points.resize(c.trace.pixels.size());
+        if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_)) matchLengths(c.trace);
         if (loneStroke(f, c.trace.pixels) && classifier_.arrowHead(in, c.trace.pixels, params_)) {
           c.evidence.boundary = false;
           c.evidence.reason = "lane arrow";
@@ -356,8 +378,10 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
         classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
         // followed into the depth tells it again (a kerb's bright top is no paint)
-        if (!std::isfinite(c.evidence.line_height))
+        if (!std::isfinite(c.evidence.line_height)) {
           classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+          matchLengths(c.trace);
+        }
       }
       // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
       // rail: its head is it)
@@ -384,7 +408,14 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
     if (!(dn < -1e-9)) continue;
     const double fwd = frame.toPlane(r * (-f.road->distance / dn)).x();
     if (fwd > max_forward) continue;
-    if (stretches == 0 || std::fabs(fwd - last_f) > gap) {
+    // far away one image row spans more road than the gap: rows found on neighbouring rows
+    // are one stretch (kRowsPerGap rows without paint make a gap there)
+    const Eigen::Vector3d r1((px.x - f.K.cx) / f.K.fx, (px.y - 1.0 - f.K.cy) / f.K.fy, 1.0);
+    const double dn1 = f.road->normal.dot(r1);
+    const double row_m = dn1 < -1e-9
+                             ? std::fabs(frame.toPlane(r1 * (-f.road->distance / dn1)).x() - fwd)
+                             : std::numeric_limits<double>::infinity();
+    if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {
       if (stretches > 0) covered += std::fabs(last_f - start_f);
       ++stretches;
       start_f = fwd;
@@ -399,6 +430,33 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   return stretches;
 }
 
+bool BoundaryCandidateFinder::followed(const ClassifierInput& in, double reach) {
+  // seed_pixels_ followed row by row; the rows found replace them (with their points) only when
+  // there are enough of them
+  const int found = classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap,
+                                           params_.max_depth, reach);
+  return found >= std::max(params_.min_marker_points, 3) &&
+         seed_points_.size() == seed_pixels_.size();
+}
+
+bool BoundaryCandidateFinder::runsAhead(const CandidateFrame& f,
+                                         const std::vector<cv::Point2f>& pixels) const {
+  // from its nearest to its farthest row, in road coordinates
+  Eigen::Vector2d a(0.0, 0.0), b(0.0, 0.0);
+  bool have = false;
+  for (const auto& px : pixels) {
+    const Eigen::Vector3d r((px.x - f.K.cx) / f.K.fx, (px.y - f.K.cy) / f.K.fy, 1.0);
+    const double dn = f.road->normal.dot(r);
+    if (!(dn < -1e-9)) continue;
+    const Eigen::Vector2d q = classifier_input_.frame.toPlane(r * (-f.road->distance / dn));
+    if (!have) a = q;
+    b = q;
+    have = true;
+  }
+  const Eigen::Vector2d t = b - a;
+  return have && t.x() > 0.0 && std::fabs(t.y()) <= std::tan(kMaxSeedHeading) * t.x();
+}
+
 bool BoundaryCandidateFinder::loneStroke(const CandidateFrame& f,
                                           const std::vector<cv::Point2f>& pixels) const {
   // paint on two stretches (dashes) or over a length no arrow has is a lane line
@@ -411,11 +469,10 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   // a rail head runs on without a break; a line narrower than paint that comes in dashes is worn
   // paint (the bright core of a faded dash measures a few centimetres)
   seed_pixels_.assign(c.trace.pixels.begin(), c.trace.pixels.end());
+  seed_points_.clear();
   const ClassifierInput& in = classifier_input_;
   double extent = 0.0, painted = 0.0;
-  if (classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap,
-                             params_.max_depth) < params_.min_marker_points)
-    return;
+  if (!followed(in, BoundaryClassifier::kTraceReach)) return;
   // within kDashRange, where a rail head is resolved on every row (farther, any thin line
   // breaks up)
   const int dashes = paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange);
@@ -428,13 +485,28 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   (void)side;
 }
 
-bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, MarkerTrace& m) {
+bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m) {
   const ClassifierInput& in = classifier_input_;  // set by classify()
   if (!(m.peak_score > params_.trace_threshold) || m.seed.x < 0.f) return false;
+  // the seed lies on the road where the depth measures it (a match without depth, on a wall, a
+  // car or a kerb top, or where the road plane only fills missing depth, is followed nowhere)
+  const Eigen::Vector3f& sp = m.seed_point;
+  if (!sp.allFinite() || std::fabs(f.road->normal.cast<float>().dot(sp) +
+                                   static_cast<float>(f.road->distance)) > params_.kerb_height)
+    return false;
+  if (f.filled != nullptr) {
+    const int px = static_cast<int>(std::lround((m.seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5));
+    const int py = static_cast<int>(std::lround((m.seed.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5));
+    if (px >= 0 && py >= 0 && px < f.filled->cols && py < f.filled->rows && f.filled->at<uint8_t>(py, px) != 0)
+      return false;
+  }
   const Eigen::Vector3d ray((m.seed.x - f.K.cx) / f.K.fx, (m.seed.y - f.K.cy) / f.K.fy, 1.0);
   const double den = f.road->normal.dot(ray);
   if (!(den < -1e-9)) return false;
   const Eigen::Vector2d q = in.frame.toPlane(ray * (-f.road->distance / den));
+  // an ego-lane boundary's distance beside the camera (lateral: + right)
+  const double beside = left ? -q.y() : q.y();
+  if (beside < params_.boundary_offset_min || beside > params_.boundary_offset_max) return false;
   // the line through the seed straight ahead on the road (ego-lane lines run with the vehicle)
   seed_pixels_.clear();
   seed_points_.clear();
@@ -444,11 +516,8 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, MarkerTrac
     seed_pixels_.emplace_back(static_cast<float>(f.K.fx * p.x() / p.z() + f.K.cx),
                               static_cast<float>(f.K.fy * p.y() / p.z() + f.K.cy));
   }
-  if (seed_pixels_.size() < 2) return false;
-  if (classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap, params_.max_depth,
-                             kSeedReach) < params_.min_marker_points)
-    return false;
-  if (loneStroke(f, seed_pixels_)) return false;
+  if (seed_pixels_.size() < 2 || !followed(in, kSeedReach)) return false;
+  if (loneStroke(f, seed_pixels_) || !runsAhead(f, seed_pixels_)) return false;
   m.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
   m.points.assign(seed_points_.begin(), seed_points_.end());
   m.scores.assign(m.pixels.size(), m.peak_score);
@@ -512,6 +581,7 @@ void BoundaryCandidateFinder::followPredictedLines(const CandidateFrame& f) {
                                kPredictedReach) < params_.min_marker_points)
       continue;
     classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    matchLengths(m);
     if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
     m.found = false;
     m.kind = BoundaryKind::kPaint;
@@ -558,6 +628,7 @@ void BoundaryCandidateFinder::addRoadEdgesFromDepth(const CandidateFrame& f) {
     // (its rows are the depth's own measurement of the edge: not moved by the colours, which a
     // gutter's leaves or an overexposed kerb mislead)
     classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    matchLengths(m);
     if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kRoadEdge) continue;
     ++counts_[side];
   }

@@ -13,6 +13,7 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kMinPixelsPerMetre = 12.0;
 constexpr double kWidthPixelsPerMetre = 25.0;
 constexpr double kProfileHalfWidth = 0.6;    // m each side of the line
+constexpr int kMaxProfileHalf = 160;         // px each side of the line at most (near rows)
 constexpr double kPeakSearch = 0.1;          // m: the band's peak is sought this close to the trace
 constexpr double kSideNear = 0.22;           // m: the sides' backgrounds start this far from the peak
 constexpr double kSideFar = 0.5;             // ... and end here
@@ -142,6 +143,20 @@ bool stepInMostRows(std::vector<float>& steps, float kerb, float& step) {
 
 }  // namespace
 
+BoundaryClassifier::BoundaryClassifier() {
+  // the per-line buffers at their largest, so that no frame grows them
+  object_.reserve(kReservedPixels);
+  followed_.reserve(kReservedPixels);
+  followed_near_.reserve(kReservedPixels);
+  follow_f_.reserve(kReservedPixels);
+  side_.reserve(2 * kMaxProfileHalf + 1);
+  for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_,
+                  &far_step_})
+    v->reserve(kMaxMeasuredRows);
+  pair_step_.reserve(2 * kMaxMeasuredRows);
+  pair_raise_.reserve(2 * kMaxMeasuredRows);
+}
+
 float BoundaryClassifier::heightAt(const ClassifierInput& in, int u, int v) const {
   const cv::Mat& P = *in.points;
   const int x = static_cast<int>((u + 0.5) * in.scale_x);
@@ -247,7 +262,7 @@ bool BoundaryClassifier::measureRow(const ClassifierInput& in, const cv::Point2f
   m.ppm = K.fx / m.depth;               // pixels per metre across the road at this row
   if (m.ppm < kMinPixelsPerMetre) return false;
   m.u0 = static_cast<int>(std::lround(c.x));
-  m.W = std::min(160, std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * m.ppm))));
+  m.W = std::min(kMaxProfileHalf, std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * m.ppm))));
   if (m.u0 - m.W < 0 || m.u0 + m.W >= colour.cols) return false;
   const ImageRow row(in, m.v);
   if (!row.valid()) return false;
@@ -620,7 +635,7 @@ bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<
     if (ppm < kWidthPixelsPerMetre) break;
     const ImageRow row(in, v);
     if (!row.valid()) break;
-    const int W = static_cast<int>(std::lround(kArrowHalfWidth * ppm));
+    const int W = std::min(kMaxProfileHalf, static_cast<int>(std::lround(kArrowHalfWidth * ppm)));
     const int u0 = static_cast<int>(std::lround(u));
     if (u0 - W < 0 || u0 + W >= in.colour->cols) break;
     side_.clear();
@@ -644,8 +659,8 @@ bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<
     if (bounded && width > kArrowWidthShare * p.paint_width_max * ppm) {
       ++wide;
       widest = std::max(widest, width);
-    } else if (wide >= kMinRows && width < kArrowTaper * widest) {
-      return true;  // the head narrows to its tip (a zebra stripe keeps its width)
+    } else if (wide >= kMinRows && width > 0 && width < kArrowTaper * widest) {
+      return true;  // the head narrows to its tip (a zebra stripe keeps its width, then ends)
     }
   }
   return false;
@@ -658,7 +673,7 @@ bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::
   // must lie on the road (within the kerb height) on most of its measured pixels
   if (in.plane == nullptr || !in.plane->valid) return false;
   const Intrinsics& K = in.K;
-  object_.clear();  // per pixel: 1 object, 0 road, -1 no depth
+  object_.clear();  // per pixel: 1 object, 0 road, 2 off the road but no object, -1 no depth
   for (const auto& c : pixels) {
     const int u = static_cast<int>(std::lround(c.x));
     const int v = static_cast<int>(std::lround(c.y));

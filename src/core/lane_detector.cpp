@@ -404,7 +404,10 @@ void LaneDetector::fitRoadSurface(const Frame& frame) {
   s.far_columns =
       RoadSurface::corridorColumns(proc_K_.fx * sx, (proc_K_.cx + 0.5) * sx - 0.5, s.fit_range);
   const PlaneEstimate& previous = fitter_.previousPlane();
-  if (!road_surface_.fit(points_, roi_rows_, s, previous, road_)) return;
+  if (!road_surface_.fit(points_, roi_rows_, s, previous, road_)) {
+    plane_holds_ = 0;
+    return;
+  }
   // a road does not tilt or drop within a frame: a plane that jumps from the last one is depth
   // that fooled the fit (sparse returns, the paint alone, a wet road); the last plane is kept
   // instead, for kPlaneHoldFrames frames at most (then the new one holds)

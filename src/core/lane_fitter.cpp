@@ -251,7 +251,9 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
   const bool any_track = tracker_.valid(0) || tracker_.valid(1);
   double road_range = in.road_range;
   if (p.plane_fit == PlaneFit::kRoadSurface) {
-    if (in.road != nullptr && in.road->valid && planePlausible(*in.road)) {
+    // (RoadSurface checked it against the up axis it was fitted with: the vehicle's, when the
+    // frame gives the camera's pose)
+    if (in.road != nullptr && in.road->valid) {
       plane.valid = true;
       plane.normal = in.road->normal;
       plane.distance = in.road->distance;

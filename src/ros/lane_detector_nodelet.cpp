@@ -416,11 +416,15 @@ void LaneDetectorNodelet::prepareDetector(const CameraInfo& info) {
   const Clock::time_point start = Clock::now();
   const Status status = detector_.prepare(size, K);
   if (status != Status::kOk) return;  // the frames will be dropped, naming the problem
-  if (conv::hasDistortion(info))
-    NODELET_WARN("camera_info has distortion coefficients (model '%s'): the detector reads the "
-                 "images as rectified with the pinhole P/K, so lines toward the image edges come "
-                 "out displaced. Feed it rectified images (image_proc: image_rect_color).",
-                 info.distortion_model.c_str());
+  // A rectified image comes with its camera's camera_info (D of the raw lens, P of the
+  // rectified image): only a colour topic that is not a rectified one is a problem
+  const std::string colour_topic = sub_colour_.getTopic();
+  if (conv::hasDistortion(info) && colour_topic.find("rect") == std::string::npos)
+    NODELET_WARN("camera_info has distortion coefficients (model '%s') and the colour topic '%s' "
+                 "is not a rectified image: the detector reads images as rectified (pinhole P, "
+                 "else K), so lines toward the image edges come out displaced. Feed it rectified "
+                 "images (image_proc: image_rect_color).",
+                 info.distortion_model.c_str(), colour_topic.c_str());
   NODELET_INFO("Detector prepared for %dx%d frames in %.1f ms (fx %.3f, fy %.3f, cx %.3f, cy %.3f)",
                size.width, size.height,
                std::chrono::duration<double, std::milli>(Clock::now() - start).count(), K.fx, K.fy,

@@ -188,7 +188,7 @@ TEST(Conversions, DistortionIsAnyNonZeroCoefficient) {
   EXPECT_FALSE(conv::hasDistortion(info));  // no coefficients: a pinhole
   info.distortion_model = "plumb_bob";
   info.D.assign(5, 0.0);
-  EXPECT_FALSE(conv::hasDistortion(info));  // rectified images publish zeros
+  EXPECT_FALSE(conv::hasDistortion(info));  // a pinhole camera's plumb_bob of zeros
   for (size_t i = 0; i < 5; ++i) {
     info.D.assign(5, 0.0);
     info.D[i] = i == 4 ? 1e-6 : -0.3;

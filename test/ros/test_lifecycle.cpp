@@ -18,6 +18,7 @@
 #include <rosgraph_msgs/Clock.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "rgbd_lane_detector/lane_detector.h"
 #include "ros_harness.h"
 
 extern char** environ;
@@ -167,8 +168,10 @@ TEST(Lifecycle, LoadsIntoTheManager) {
 }
 
 TEST(Lifecycle, ResolutionChangeReplansEveryBuffer) {
-  double scale = 1.0;
-  ros::param::get(g->detector + "/processing_scale", scale);
+  // the processing scale the detector picks for each camera (processing_scale 0: automatic)
+  Params p;
+  ros::param::get(g->detector + "/processing_scale", p.processing_scale);
+  ros::param::get(g->detector + "/camera_height", p.camera_height);
   test::RoadScene half = g->scene;  // the same road seen by a camera at half resolution
   half.width /= 2;
   half.height /= 2;
@@ -183,6 +186,8 @@ TEST(Lifecycle, ResolutionChangeReplansEveryBuffer) {
   // Every output answers its own input's size: the overlay at the input size, the response maps
   // at the processing size, a plane near the truth (the same road).
   auto expectSizes = [&](const ros::Time& stamp, int w, int h) {
+    const Intrinsics& K = w == g->scene.width ? g->scene.K : half.K;
+    const double scale = processingScale(p, cv::Size(w, h), K);
     const auto left = out.left.withStamp(stamp);
     const auto debug = out.debug.withStamp(stamp);
     ASSERT_TRUE(left && debug) << "no response map or overlay for " << w << "x" << h;

@@ -213,7 +213,7 @@ const std::vector<std::string>& scenarioNames() {
       "summer",      "cloudy",       "fog",       "overpass",      "solid",
       "dashed",      "shadows",      "lane_like_objects", "no_markings",   "curve",
       "kerb",        "tram_rails",   "road_edge", "intersection",  "crest_sag",
-      "yellow_centre", "lane_change"};
+      "yellow_centre", "lane_change", "sharp_bend"};
   return names;
 }
 
@@ -294,6 +294,11 @@ bool applyScenario(const std::string& name, SceneSettings& s) {
     p.ego_left = p.ego_right = MarkerKind::kDashed;
     p.drift_amplitude = 0.2;
     p.lane_change_length = 70.0;
+  } else if (name == "sharp_bend") {
+    // a bend of radius 90 m (a rural road, a motorway ramp): 20-25 m ahead the road runs 13-16
+    // deg off the camera's axis, the inner line leaves the image's side
+    p.curvature = -1.0 / 90.0;
+    p.speed = 15.0;
   }
   s = p;
   applySensor(s.sensor, s);
