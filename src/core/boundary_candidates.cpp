@@ -44,6 +44,17 @@ double clampAngle(double angle, bool left) {
   return left ? M_PI - from_h : from_h;
 }
 
+// Road-plane coordinates (forward, lateral right) of the input pixel (u, v): its ray met with the
+// road plane of @p f in @p frame; false where the ray does not meet the road ahead.
+bool roadCoordinates(const CandidateFrame& f, const PlaneFrame& frame, double u, double v,
+                     Eigen::Vector2d& q) {
+  const Eigen::Vector3d ray((u - f.K.cx) / f.K.fx, (v - f.K.cy) / f.K.fy, 1.0);
+  const double den = f.road->normal.dot(ray);
+  if (!(den < -1e-9)) return false;
+  q = frame.toPlane(ray * (-f.road->distance / den));
+  return true;
+}
+
 // More candidate slots, each with room for a line followed over kReservedRows image rows: a
 // slot's trace is refilled every frame, by lines of any length, without growing.
 void grow(std::vector<BoundaryCandidate>& cands, int size) {
@@ -403,17 +414,14 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   double start_f = 0.0, covered = 0.0;
   const PlaneFrame& frame = classifier_input_.frame;
   for (const auto& px : pixels) {  // near to far
-    const Eigen::Vector3d r((px.x - f.K.cx) / f.K.fx, (px.y - f.K.cy) / f.K.fy, 1.0);
-    const double dn = f.road->normal.dot(r);
-    if (!(dn < -1e-9)) continue;
-    const double fwd = frame.toPlane(r * (-f.road->distance / dn)).x();
+    Eigen::Vector2d q, q1;
+    if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
+    const double fwd = q.x();
     if (fwd > max_forward) continue;
     // far away one image row spans more road than the gap: rows found on neighbouring rows
     // are one stretch (kRowsPerGap rows without paint make a gap there)
-    const Eigen::Vector3d r1((px.x - f.K.cx) / f.K.fx, (px.y - 1.0 - f.K.cy) / f.K.fy, 1.0);
-    const double dn1 = f.road->normal.dot(r1);
-    const double row_m = dn1 < -1e-9
-                             ? std::fabs(frame.toPlane(r1 * (-f.road->distance / dn1)).x() - fwd)
+    const double row_m = roadCoordinates(f, frame, px.x, px.y - 1.0, q1)
+                             ? std::fabs(q1.x() - fwd)
                              : std::numeric_limits<double>::infinity();
     if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {
       if (stretches > 0) covered += std::fabs(last_f - start_f);
@@ -445,10 +453,8 @@ bool BoundaryCandidateFinder::runsAhead(const CandidateFrame& f,
   Eigen::Vector2d a(0.0, 0.0), b(0.0, 0.0);
   bool have = false;
   for (const auto& px : pixels) {
-    const Eigen::Vector3d r((px.x - f.K.cx) / f.K.fx, (px.y - f.K.cy) / f.K.fy, 1.0);
-    const double dn = f.road->normal.dot(r);
-    if (!(dn < -1e-9)) continue;
-    const Eigen::Vector2d q = classifier_input_.frame.toPlane(r * (-f.road->distance / dn));
+    Eigen::Vector2d q;
+    if (!roadCoordinates(f, classifier_input_.frame, px.x, px.y, q)) continue;
     if (!have) a = q;
     b = q;
     have = true;
@@ -500,10 +506,8 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
     if (px >= 0 && py >= 0 && px < f.filled->cols && py < f.filled->rows && f.filled->at<uint8_t>(py, px) != 0)
       return false;
   }
-  const Eigen::Vector3d ray((m.seed.x - f.K.cx) / f.K.fx, (m.seed.y - f.K.cy) / f.K.fy, 1.0);
-  const double den = f.road->normal.dot(ray);
-  if (!(den < -1e-9)) return false;
-  const Eigen::Vector2d q = in.frame.toPlane(ray * (-f.road->distance / den));
+  Eigen::Vector2d q;
+  if (!roadCoordinates(f, in.frame, m.seed.x, m.seed.y, q)) return false;
   // an ego-lane boundary's distance beside the camera (lateral: + right)
   const double beside = left ? -q.y() : q.y();
   if (beside < params_.boundary_offset_min || beside > params_.boundary_offset_max) return false;
@@ -535,10 +539,8 @@ bool BoundaryCandidateFinder::candidateOnLine(const CandidateFrame& f, int side,
     if (!c.evidence.boundary || c.evidence.kind != kind) continue;
     int near = 0, total = 0;
     for (const auto& px : c.trace.pixels) {
-      const Eigen::Vector3d ray((px.x - f.K.cx) / f.K.fx, (px.y - f.K.cy) / f.K.fy, 1.0);
-      const double den = f.road->normal.dot(ray);
-      if (!(den < -1e-9)) continue;
-      const Eigen::Vector2d q = frame.toPlane(ray * (-f.road->distance / den));
+      Eigen::Vector2d q;
+      if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
       ++total;
       if (std::fabs(q.y() - lateral(q.x())) <= reach) ++near;
     }
