@@ -43,8 +43,9 @@ namespace rgbd_lane_detector {
  * made for a lane line about 20 px wide at the nearest rows (the paper's 640x380 R200 frames,
  * KITTI's 1242x375); a lane line of 10 cm on a road params.camera_height below the camera has,
  * at the bottom image row v, the width 0.10 (v - cy) / camera_height px whatever the focal
- * length. The automatic scale brings that to 24 px (no resampling when it is already narrower):
- * a 1920x1080 camera is processed at about 1280x720, a 640x480 or 1242x375 one as it is.
+ * length. The automatic scale brings that to 24 px (no resampling when it is already narrower,
+ * or when the scale would be above 0.8: resampling costs more than it saves): a 1920x1080 camera
+ * is processed at about 1280x720, a 640x480, 1280x760 or 1242x375 one as it is.
  */
 double processingScale(const Params& params, const cv::Size& size, const Intrinsics& intrinsics);
 

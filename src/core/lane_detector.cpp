@@ -21,6 +21,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+constexpr double kLeastResample = 0.8;    // the automatic scale resamples below this only
 constexpr int kPlaneHoldFrames = 5;       // frames the last plane is kept over jumping fits
 constexpr double kPlaneDropPerDeg = 0.05; // m of height change per degree of plane_max_change_deg
 
@@ -70,7 +71,10 @@ double processingScale(const Params& params, const cv::Size& size, const Intrins
   if (!(near_px > kNearWidthPx)) return 1.0;  // also: cy at or below the bottom row
   // a processing image of at least 64 px a side (the templates must fit)
   const double floor_scale = 64.0 / std::max(1, std::min(size.width, size.height));
-  return std::max(std::min(1.0, floor_scale), kNearWidthPx / near_px);
+  const double scale = std::max(std::min(1.0, floor_scale), kNearWidthPx / near_px);
+  // resampling costs a pass over the input and the classifier's grey at full size: shrinking
+  // by less than a fifth saves less than that
+  return scale > kLeastResample ? 1.0 : scale;
 }
 
 LaneDetector::LaneDetector(const Params& params) { setParams(params); }
