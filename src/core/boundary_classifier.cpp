@@ -141,6 +141,30 @@ bool stepInMostRows(std::vector<float>& steps, float kerb, float& step) {
   return true;
 }
 
+// The road under input pixel (u, v): its forward distance in the plane frame and the pixels per
+// metre across the road there; false where the pixel's ray does not meet the road.
+bool roadAt(const ClassifierInput& in, double u, double v, double& f, double& ppm) {
+  const Intrinsics& K = in.K;
+  const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
+  const double den = in.plane->normal.dot(ray);
+  if (!(den < -1e-9)) return false;
+  const double t = -in.plane->distance / den;
+  f = in.frame.toPlane(ray * t).x();
+  ppm = K.fx / t;
+  return true;
+}
+
+// Column of an image polyline (near to far, rows decreasing) at row v, linear between its points.
+double columnAt(const std::vector<cv::Point2f>& line, int v) {
+  for (size_t i = 1; i < line.size(); ++i)
+    if ((v <= line[i - 1].y && v >= line[i].y) || (v >= line[i - 1].y && v <= line[i].y)) {
+      const double dy = line[i].y - line[i - 1].y;
+      return std::fabs(dy) > 1e-6 ? line[i - 1].x + (v - line[i - 1].y) * (line[i].x - line[i - 1].x) / dy
+                                  : line[i].x;
+    }
+  return line.back().x;
+}
+
 }  // namespace
 
 BoundaryClassifier::BoundaryClassifier() {
@@ -364,9 +388,6 @@ int BoundaryClassifier::followRows(const ClassifierInput& in, std::vector<cv::Po
                                    std::vector<Eigen::Vector3f>& points, double max_gap,
                                    double max_range, FindInRow&& find) {
   if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return 0;
-  const Intrinsics& K = in.K;
-  const Eigen::Vector3d& n = in.plane->normal;
-  const double d = in.plane->distance;
   // the trace by row, near (bottom) to far (top)
   int v_near = 0, v_far = in.colour->rows;
   for (const auto& c : pixels) {
@@ -396,13 +417,7 @@ int BoundaryClassifier::followRows(const ClassifierInput& in, std::vector<cv::Po
   }
   // forward distance of a road pixel, and pixels per metre across the road there
   auto road = [&](double u, int v, double& f, double& ppm) {
-    const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-    const double den = n.dot(ray);
-    if (!(den < -1e-9)) return false;
-    const double t = -d / den;
-    f = in.frame.toPlane(ray * t).x();
-    ppm = K.fx / t;
-    return f > 0.0 && f <= max_range && ppm >= 1.5;
+    return roadAt(in, u, v, f, ppm) && f > 0.0 && f <= max_range && ppm >= 1.5;
   };
   // One direction from the trace: rows v0, v0 + step, ...; inside the trace's rows the column
   // comes from the trace, outside it from a line through the last rows found.
@@ -588,50 +603,29 @@ bool BoundaryClassifier::edgeInRow(const ClassifierInput& in, int v, double u, d
   return false;
 }
 
-// Column of an image polyline (near to far, rows decreasing) at row v, linear between its points.
-double columnAt(const std::vector<cv::Point2f>& line, int v) {
-  for (size_t i = 1; i < line.size(); ++i)
-    if ((v <= line[i - 1].y && v >= line[i].y) || (v >= line[i - 1].y && v <= line[i].y)) {
-      const double dy = line[i].y - line[i - 1].y;
-      return std::fabs(dy) > 1e-6 ? line[i - 1].x + (v - line[i - 1].y) * (line[i].x - line[i - 1].x) / dy
-                                  : line[i].x;
-    }
-  return line.back().x;
-}
-
 bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels,
                                    const Params& p) {
   // beyond the far end of a painted stroke (up to kArrowReach of road), a bright band much
   // wider than paint around its extension on a few rows: the head of a lane arrow
   if (pixels.size() < 3 || in.plane == nullptr || !in.plane->valid) return false;
-  const Intrinsics& K = in.K;
   const cv::Point2f& a = pixels[pixels.size() - 3];
   const cv::Point2f& b = pixels.back();
   if (!(b.y < a.y - 0.5f)) return false;
   const double du = (b.x - a.x) / (b.y - a.y);  // column change per row, toward the top
-  auto forward = [&](double u, double v, double& f, double& ppm) {
-    const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-    const double den = in.plane->normal.dot(ray);
-    if (!(den < -1e-9)) return false;
-    const double t = -in.plane->distance / den;
-    f = in.frame.toPlane(ray * t).x();
-    ppm = K.fx / t;
-    return true;
-  };
   double f0 = 0.0, ppm0 = 0.0;
-  if (!forward(b.x, b.y, f0, ppm0)) return false;
+  if (!roadAt(in, b.x, b.y, f0, ppm0)) return false;
   // from kArrowBack before the far end (the follow may have run up the head's narrow tip)
   int v_start = static_cast<int>(std::lround(b.y)) - 1;
   for (size_t i = pixels.size(); i-- > 0;) {
     double f = 0.0, ppm = 0.0;
-    if (!forward(pixels[i].x, pixels[i].y, f, ppm) || f0 - f > kArrowBack) break;
+    if (!roadAt(in, pixels[i].x, pixels[i].y, f, ppm) || f0 - f > kArrowBack) break;
     v_start = static_cast<int>(std::lround(pixels[i].y));
   }
   int wide = 0, widest = 0;
   for (int v = v_start; v >= 0; --v) {
     const double u = v >= b.y ? columnAt(pixels, v) : b.x + du * (v - b.y);
     double f = 0.0, ppm = 0.0;
-    if (!forward(u, v, f, ppm) || f - f0 > kArrowReach) break;
+    if (!roadAt(in, u, v, f, ppm) || f - f0 > kArrowReach) break;
     if (ppm < kWidthPixelsPerMetre) break;
     const ImageRow row(in, v);
     if (!row.valid()) break;
