@@ -5,6 +5,7 @@ set(RLD_CORE_SOURCES
   src/core/params.cpp
   src/core/params_io.cpp
   src/core/types.cpp
+  src/core/geometry.cpp
   src/core/half_binary.cpp
   src/core/adaptive_threshold.cpp
   src/core/depth_points.cpp
@@ -30,6 +31,7 @@ set(RLD_CORE_SOURCES
 )
 # each is test/core/<name>.cpp, linked with test/core/synthetic_scene.cpp
 set(RLD_CORE_TESTS
+  test_geometry
   test_half_binary
   test_depth_points
   test_disparity_depth

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
@@ -34,10 +35,5 @@ bool planeFromThreePoints(const Eigen::Vector3f& a1, const Eigen::Vector3f& b,
  */
 bool fitPlaneLeastSquares(const std::vector<Eigen::Vector3f>& points, double inlier_distance,
                           int iterations, PlaneEstimate& out);
-
-/// Signed distance of a point to a plane (positive on the camera side).
-inline double planeDistance(const PlaneEstimate& plane, const Eigen::Vector3f& p) {
-  return plane.normal.dot(p.cast<double>()) + plane.distance;
-}
 
 }  // namespace rgbd_lane_detector

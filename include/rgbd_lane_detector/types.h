@@ -13,7 +13,10 @@
 
 namespace rgbd_lane_detector {
 
-/// Pinhole intrinsics of the (rectified) colour camera, in pixels.
+/**
+ * @brief Pinhole intrinsics of the (rectified) colour camera, in pixels: the one place where
+ * pixels and optical-frame rays meet (x right, y down, z forward).
+ */
 struct Intrinsics {
   double fx = 0.0;
   double fy = 0.0;
@@ -21,10 +24,47 @@ struct Intrinsics {
   double cy = 0.0;
   /// Finite, positive focal lengths and finite principal point.
   bool valid() const;
+  /// The ray through pixel (u, v), scaled to z = 1 (so a point at depth z is z * ray).
+  Eigen::Vector3d ray(double u, double v) const {
+    return Eigen::Vector3d((u - cx) / fx, (v - cy) / fy, 1.0);
+  }
+  /// Pixel of an optical-frame point in front of the camera (p.z() > 0), in double.
+  template <typename Derived>
+  cv::Point2d project(const Eigen::MatrixBase<Derived>& p) const {
+    return cv::Point2d(fx * p.x() / p.z() + cx, fy * p.y() / p.z() + cy);
+  }
+  bool operator==(const Intrinsics& o) const {
+    return fx == o.fx && fy == o.fy && cx == o.cx && cy == o.cy;
+  }
+  bool operator!=(const Intrinsics& o) const { return !(*this == o); }
 };
 
 /// Channel layout of the colour image (the ROS encodings the core reads in place).
 enum class PixelFormat { kBgr8, kRgb8, kBgra8, kRgba8, kMono8 };
+
+/// What a pixel format is, written once: channels, and the byte of red, green and blue in a pixel
+/// (all 0 for mono).
+struct PixelLayout {
+  int channels;
+  int r, g, b;
+};
+
+/// The layout of @p format.
+constexpr PixelLayout pixelLayout(PixelFormat format) {
+  switch (format) {
+    case PixelFormat::kBgr8:
+      return {3, 2, 1, 0};
+    case PixelFormat::kRgb8:
+      return {3, 0, 1, 2};
+    case PixelFormat::kBgra8:
+      return {4, 2, 1, 0};
+    case PixelFormat::kRgba8:
+      return {4, 0, 1, 2};
+    case PixelFormat::kMono8:
+      return {1, 0, 0, 0};
+  }
+  return {0, 0, 0, 0};
+}
 
 /**
  * @brief One RGB-D frame. The core only reads the images (no copy when the
