@@ -11,7 +11,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 SYSROOT=$(realpath -m "${1:-$ROOT/build/arm64/sysroot}")
 APTDIR=$(dirname "$SYSROOT")/apt
 # what the core, its gtests and the benchmarks link (Eigen is header-only: the host's is used)
-PACKAGES=(libopencv-core-dev libopencv-imgproc-dev libhwy-dev libgtest-dev libbenchmark-dev)
+PACKAGES=(libopencv-core-dev libopencv-imgproc-dev libhwy-dev libgtest-dev libbenchmark-dev libyaml-cpp-dev)
 
 STAMP=$SYSROOT/.packages
 if [ -f "$STAMP" ] && [ "$(cat "$STAMP")" = "${PACKAGES[*]}" ]; then

@@ -27,6 +27,12 @@ void clampField(E& v, int lo, int hi, E fallback) {
   if (i < lo || i > hi) v = fallback;
 }
 
+// params.h's enumerators carry the values of param_enums.def, the table of their names
+#define RLD_ENUM(type, enumerator, name, value, description) \
+  static_assert(static_cast<int>(type::enumerator) == (value), #type "::" #enumerator);
+#include "rgbd_lane_detector/param_enums.def"
+#undef RLD_ENUM
+
 }  // namespace
 
 Params Params::paper() {

@@ -5,9 +5,10 @@
 #include <fstream>
 #include <functional>
 #include <limits>
-#include <map>
 #include <sstream>
 #include <type_traits>
+
+#include <yaml-cpp/yaml.h>
 
 namespace rgbd_lane_detector {
 namespace {
@@ -73,19 +74,32 @@ std::string trim(const std::string& s) {
   return s.substr(a, b - a + 1);
 }
 
+// A value's text: an enum name (param_enums.def), a YAML 1.1 boolean or a finite number.
 bool parseValue(const std::string& text, double& v) {
-  static const std::map<std::string, double> words = {
-      {"true", 1},  {"True", 1},      {"TRUE", 1},     {"false", 0},       {"False", 0},
-      {"FALSE", 0}, {"near_high", 0}, {"far_high", 1}, {"three_point", 0}, {"least_squares", 1},
-      {"road_surface", 2}};
-  const auto w = words.find(text);
-  if (w != words.end()) {
-    v = w->second;
-    return true;
-  }
+  static const struct {
+    const char* name;
+    int value;
+  } kEnumNames[] = {
+#define RLD_ENUM(type, enumerator, name, value, description) {#name, value},
+#include "rgbd_lane_detector/param_enums.def"
+#undef RLD_ENUM
+  };
+  for (const auto& e : kEnumNames)
+    if (text == e.name) {
+      v = e.value;
+      return true;
+    }
+  for (const char* t : {"true", "True", "TRUE"})
+    if (text == t) return v = 1.0, true;
+  for (const char* f : {"false", "False", "FALSE"})
+    if (text == f) return v = 0.0, true;
   char* end = nullptr;
   v = std::strtod(text.c_str(), &end);
   return end != text.c_str() && *end == '\0' && std::isfinite(v);
+}
+
+std::string where(const std::string& source, const YAML::Mark& mark) {
+  return mark.is_null() ? source : source + ":" + std::to_string(mark.line + 1);
 }
 
 }  // namespace
@@ -129,47 +143,66 @@ bool getParam(const Params& p, const std::string& name, double& value) {
   return true;
 }
 
-bool loadParamsYaml(const std::string& path, Params& p, std::string* error) {
+bool loadParamsYaml(const std::string& path, Params& p, std::string* error,
+                    std::vector<std::string>* ignored) {
   std::ifstream in(path);
   if (!in) {
     if (error) *error = "cannot open parameter file " + path;
     return false;
   }
-  return parseParamsYaml(in, path, p, error);
+  return parseParamsYaml(in, path, p, error, ignored);
 }
 
-bool parseParamsYaml(std::istream& in, const std::string& path, Params& p, std::string* error) {
-  // key/value lines; a mode line selects the preset the other keys apply to, wherever it is
-  std::vector<std::pair<std::string, std::string>> entries;
-  std::vector<int> line_numbers;
+bool parseParamsYaml(std::istream& in, const std::string& source, Params& p, std::string* error,
+                     std::vector<std::string>* ignored) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(in);
+  } catch (const YAML::Exception& e) {
+    if (error) *error = source + ": not YAML: " + e.what();
+    return false;
+  }
+  if (root.IsNull()) return true;  // an empty file changes nothing
+  if (!root.IsMap()) {
+    if (error) *error = source + ": expected a map of parameter names to values";
+    return false;
+  }
+  // the `name: value` pairs in file order, those in nested maps (a node's namespace) included
+  std::vector<std::pair<std::string, YAML::Node>> entries;
+  std::function<void(const YAML::Node&)> collect = [&](const YAML::Node& map) {
+    for (const auto& kv : map) {
+      if (kv.second.IsMap())
+        collect(kv.second);
+      else
+        entries.emplace_back(kv.first.IsScalar() ? kv.first.Scalar() : std::string(), kv.second);
+    }
+  };
+  collect(root);
+  // a mode key selects the preset the other keys apply to, wherever it is
   Params out = p;
-  std::string line;
-  for (int line_no = 1; std::getline(in, line); ++line_no) {
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.erase(hash);
-    const size_t colon = line.find(':');
-    if (colon == std::string::npos) continue;
-    const std::string key = trim(line.substr(0, colon));
-    const std::string text = trim(line.substr(colon + 1));
-    if (key.empty() || text.empty()) continue;
-    if (key == "mode") {
-      if (!paramsForMode(text, out)) {
-        if (error) *error = path + ":" + std::to_string(line_no) + ": unknown mode '" + text + "'";
-        return false;
-      }
+  for (const auto& [key, value] : entries) {
+    if (key != "mode") continue;
+    if (!(value.IsScalar() && paramsForMode(value.Scalar(), out))) {
+      if (error)
+        *error = where(source, value.Mark()) + ": unknown mode '" +
+                 (value.IsScalar() ? value.Scalar() : std::string("(not a name)")) + "'";
+      return false;
+    }
+  }
+  for (const auto& [key, value] : entries) {
+    if (key == "mode") continue;
+    const Field* f = find(key);
+    if (!f) {  // node settings (queue_size, ...), typos
+      if (ignored) ignored->push_back(key);
       continue;
     }
-    entries.emplace_back(key, text);
-    line_numbers.push_back(line_no);
-  }
-  for (size_t i = 0; i < entries.size(); ++i) {
-    const Field* f = find(entries[i].first);
-    if (!f) continue;
+    if (value.IsNull()) continue;  // `name:` without a value
     double v = 0;
-    if (!parseValue(entries[i].second, v)) {
+    if (!value.IsScalar() || !parseValue(trim(value.Scalar()), v)) {
       if (error)
-        *error = path + ":" + std::to_string(line_numbers[i]) + ": bad value '" +
-                 entries[i].second + "' for " + entries[i].first;
+        *error = where(source, value.Mark()) + ": bad value '" +
+                 (value.IsScalar() ? value.Scalar() : std::string("(not a scalar)")) + "' for " +
+                 key;
       return false;
     }
     f->set(out, v);

@@ -164,6 +164,73 @@ TEST(Params, LoadsFlatYamlFiles) {
   EXPECT_FALSE(loadParamsYaml("/nonexistent/file.yaml", q, &err));
 }
 
+// Every enum value's name in param_enums.def is what a parameter file takes, and gives the value
+// the table states (the table is also what dynamic_reconfigure offers).
+TEST(Params, EnumNamesComeFromTheirTable) {
+  std::ifstream in(std::string(RLD_SOURCE_DIR) + "/include/rgbd_lane_detector/param_enums.def");
+  const std::regex re(R"(^RLD_ENUM\((\w+), (\w+), (\w+), (\d+), ")");
+  const std::map<std::string, std::string> field = {{"DepthTerm", "depth_term"},
+                                                    {"PlaneFit", "plane_fit"}};
+  std::string line;
+  std::smatch m;
+  int entries = 0;
+  while (std::getline(in, line)) {
+    if (!std::regex_search(line, m, re)) continue;
+    ++entries;
+    ASSERT_TRUE(field.count(m[1])) << line;
+    Params p;
+    std::string err;
+    ASSERT_TRUE(setParamText(p, field.at(m[1]), m[3], &err)) << err;
+    double v = -1;
+    ASSERT_TRUE(getParam(p, field.at(m[1]), v));
+    EXPECT_EQ(v, std::stod(m[4])) << m[3];
+  }
+  EXPECT_EQ(entries, 5);
+  Params p;
+  std::string err;
+  EXPECT_FALSE(setParamText(p, "plane_fit", "sideways", &err));
+}
+
+// A ROS parameter file read with yaml-cpp: a node's namespace, non-parameters listed, YAML
+// errors and non-scalar values reported with their line, nothing applied on error.
+TEST(Params, YamlFilesWithNamespacesAndErrors) {
+  std::istringstream nested(
+      "lane_detector:\n"
+      "  queue_size: 5\n"
+      "  tau_c: 90\n"
+      "  plane_fit: three_point\n"
+      "other: {jump_step: 9}\n");
+  Params p;
+  std::string err;
+  std::vector<std::string> ignored;
+  ASSERT_TRUE(parseParamsYaml(nested, "nested", p, &err, &ignored)) << err;
+  EXPECT_EQ(p.tau_c, 90);
+  EXPECT_EQ(p.plane_fit, PlaneFit::kThreePoint);
+  EXPECT_EQ(p.jump_step, 9);
+  EXPECT_EQ(ignored, std::vector<std::string>{"queue_size"});
+
+  std::istringstream list("tau_c: 70\nalpha: [1, 2]\n");
+  Params q;
+  EXPECT_FALSE(parseParamsYaml(list, "list.yaml", q, &err));
+  EXPECT_NE(err.find("list.yaml:2"), std::string::npos) << err;
+  EXPECT_EQ(q.tau_c, Params().tau_c);
+
+  std::istringstream broken("tau_c: [70\n");
+  EXPECT_FALSE(parseParamsYaml(broken, "broken.yaml", q, &err));
+  EXPECT_NE(err.find("broken.yaml"), std::string::npos);
+
+  std::istringstream scalar("just text\n");
+  EXPECT_FALSE(parseParamsYaml(scalar, "scalar.yaml", q, &err));
+
+  std::istringstream mode("tau_c: 80\nmode: sideways\n");
+  EXPECT_FALSE(parseParamsYaml(mode, "mode.yaml", q, &err));
+  EXPECT_NE(err.find("sideways"), std::string::npos);
+
+  std::istringstream empty("");
+  EXPECT_TRUE(parseParamsYaml(empty, "empty.yaml", q, &err));
+  EXPECT_EQ(q.tau_c, Params().tau_c);
+}
+
 // fuzz_readers: "template_size: 2444...4" (2.4e46) in a parameter file cast a double outside
 // the int range to int (undefined behaviour; INT_MIN on x86, so the template became the
 // smallest instead of the largest). Integer fields now saturate, NaN leaves them unchanged.
