@@ -1,5 +1,6 @@
 // Google Benchmark of the detector core against the straightforward OpenCV pipeline, on
-// generated road frames at 640x380 and 1280x760, single-threaded unless a name says otherwise.
+// generated road frames at 640x380 and 1280x760 and on real frames at their native sizes
+// (bench_real_frames.cpp), single-threaded unless a name says otherwise.
 // scripts/bench.sh runs it and writes docs/PERFORMANCE.md from its JSON output.
 #include <algorithm>
 #include <chrono>
@@ -13,6 +14,7 @@
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>
 
+#include "bench_real_frames.h"
 #include "opencv_pipeline.h"
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/fals_normals.h"
@@ -450,6 +452,7 @@ int main(int argc, char** argv) {
         ->Apply(bench::sizes);
   }
   benchmark::AddCustomContext("simd targets", names);
+  benchmark::AddCustomContext("real frames", std::to_string(bench::registerRealFrameBenchmarks()));
   benchmark::AddCustomContext("simd best target", simd::targetName(simd::currentTarget()));
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
