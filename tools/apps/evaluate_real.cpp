@@ -117,7 +117,7 @@ std::string fmt(double v, const char* f = "%.2f") {
 
 int main(int argc, char** argv) {
   std::string realdata, markdown, csv, images;
-  std::vector<std::string> labels_paths, modes_list, depths_list, variants_list;
+  std::vector<std::string> labels_paths, modes_list, depths_list, variants_list, overrides;
   tools::CommandLine cl(
       "evaluate_real",
       "Score the detector on the hand-labelled real frames and sequences (each side right when\n"
@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
   cl.add("labels", "label file (repeatable; at least one)", &labels_paths);
   cl.add("realdata", "folder holding the labelled datasets (required)", &realdata);
   cl.add("mode", "detector mode to score (repeatable; default improved)", &modes_list);
+  cl.add("param", "key=value override of a detector parameter, every mode (repeatable)",
+         &overrides);
   cl.add("depth", "depth source for stereo datasets: dataset, sgbm (repeatable; default both)",
          &depths_list);
   cl.add("variant",
@@ -227,6 +229,7 @@ int main(int argc, char** argv) {
       for (const std::string& mode : modes_list) {
         tools::ParamChoice choice;
         choice.mode = mode;
+        choice.overrides = overrides;
         Params params;
         if (!tools::buildParams(choice, params, error)) {
           std::cerr << "evaluate_real: " << error << "\n";
