@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "rgbd_lane_detector/geometry.h"
+
 namespace rgbd_lane_detector {
 namespace {
 
@@ -95,18 +97,8 @@ class ImageRow {
     grey_ = in.grey->ptr<uint8_t>(v);
     colour_ = in.colour->ptr<uint8_t>(v);
     cn_ = in.colour->channels();
-    switch (in.format) {
-      case PixelFormat::kMono8:
-        r_ = g_ = b_ = 0;
-        break;
-      case PixelFormat::kRgb8:
-      case PixelFormat::kRgba8:
-        r_ = 0, g_ = 1, b_ = 2;
-        break;
-      default:  // bgr8, bgra8
-        b_ = 0, g_ = 1, r_ = 2;
-        break;
-    }
+    const PixelLayout layout = pixelLayout(in.format);
+    r_ = layout.r, g_ = layout.g, b_ = layout.b;
   }
   bool valid() const { return grey_ != nullptr; }
   /// Grey value (BT.601 luma) at column @p u.
@@ -144,13 +136,11 @@ bool stepInMostRows(std::vector<float>& steps, float kerb, float& step) {
 // The road under input pixel (u, v): its forward distance in the plane frame and the pixels per
 // metre across the road there; false where the pixel's ray does not meet the road.
 bool roadAt(const ClassifierInput& in, double u, double v, double& f, double& ppm) {
-  const Intrinsics& K = in.K;
-  const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-  const double den = in.plane->normal.dot(ray);
-  if (!(den < -1e-9)) return false;
-  const double t = -in.plane->distance / den;
+  const Eigen::Vector3d ray = in.K.ray(u, v);
+  double t;
+  if (!rayPlaneDepth(*in.plane, ray, t)) return false;
   f = in.frame.toPlane(ray * t).x();
-  ppm = K.fx / t;
+  ppm = in.K.fx / t;
   return true;
 }
 
@@ -194,8 +184,7 @@ float BoundaryClassifier::heightAt(const ClassifierInput& in, int u, int v) cons
       if (in.filled != nullptr && in.filled->at<uint8_t>(yy, x) != 0) continue;
       const float* q = P.ptr<float>(yy) + 3 * x;
       if (!std::isfinite(q[2])) continue;
-      const Eigen::Vector3d& n = in.plane->normal;
-      return static_cast<float>(n.x() * q[0] + n.y() * q[1] + n.z() * q[2] + in.plane->distance);
+      return static_cast<float>(planeDistance(*in.plane, Eigen::Vector3f(q[0], q[1], q[2])));
     }
   }
   return kNaN;
@@ -253,15 +242,13 @@ double BoundaryClassifier::cosHeading(const ClassifierInput& in,
                                       const std::vector<cv::Point2f>& pixels) const {
   // the line's heading in the road plane (profiles are read along image rows, i.e. across the
   // road: a band's width is its extent there times cos(heading))
-  const Eigen::Vector3d& n = in.plane->normal;
-  const double d = in.plane->distance;
   Eigen::Vector2d a(0, 0), b(0, 0);
   bool have_a = false;
   for (const auto& c : pixels) {
-    const Eigen::Vector3d ray((c.x - in.K.cx) / in.K.fx, (c.y - in.K.cy) / in.K.fy, 1.0);
-    const double den = n.dot(ray);
-    if (!(den < -1e-9)) continue;
-    const Eigen::Vector2d q = in.frame.toPlane(ray * (-d / den));
+    const Eigen::Vector3d ray = in.K.ray(c.x, c.y);
+    double t;
+    if (!rayPlaneDepth(*in.plane, ray, t)) continue;
+    const Eigen::Vector2d q = in.frame.toPlane(ray * t);
     if (!have_a) {
       a = q;
       have_a = true;
@@ -279,10 +266,8 @@ bool BoundaryClassifier::measureRow(const ClassifierInput& in, const cv::Point2f
   m = RowMeasure();
   m.v = static_cast<int>(std::lround(c.y));
   if (m.v < 0 || m.v >= colour.rows) return false;
-  const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (m.v - K.cy) / K.fy, 1.0);
-  const double den = in.plane->normal.dot(ray);
-  if (!(den < -1e-9)) return false;
-  m.depth = -in.plane->distance / den;  // of the road at this pixel (ray z = 1)
+  // the road's depth at this pixel (ray z = 1)
+  if (!rayPlaneDepth(*in.plane, K.ray(c.x, m.v), m.depth)) return false;
   m.ppm = K.fx / m.depth;               // pixels per metre across the road at this row
   if (m.ppm < kMinPixelsPerMetre) return false;
   m.u0 = static_cast<int>(std::lround(c.x));
@@ -494,12 +479,9 @@ bool BoundaryClassifier::centreDoubleLine(const ClassifierInput& in,
                                           std::vector<Eigen::Vector3f>& points, const Params& p) {
   if (in.plane == nullptr || !in.plane->valid || pixels.size() < static_cast<size_t>(kMinRows))
     return false;
-  const Intrinsics& K = in.K;
   // pixels per metre across the road at an input pixel (0: not on the road)
   auto ppmAt = [&](const cv::Point2f& c) {
-    const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (c.y - K.cy) / K.fy, 1.0);
-    const double den = in.plane->normal.dot(ray);
-    return den < -1e-9 ? K.fx * (-den) / in.plane->distance : 0.0;
+    return roadPixelsPerMetre(in.K, *in.plane, in.K.ray(c.x, c.y));
   };
   twin_[0].clear();
   twin_[1].clear();
@@ -671,13 +653,13 @@ bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::
   for (const auto& c : pixels) {
     const int u = static_cast<int>(std::lround(c.x));
     const int v = static_cast<int>(std::lround(c.y));
-    const Eigen::Vector3d ray((u - K.cx) / K.fx, (v - K.cy) / K.fy, 1.0);
-    const double den = in.plane->normal.dot(ray);
-    if (!(den < -1e-9)) {
+    // kHeightNear across the road in pixels (0: the pixel is not on the road)
+    const double near_px = roadPixelsAcross(K, *in.plane, K.ray(u, v), kHeightNear);
+    if (!(near_px > 0.0)) {
       object_.push_back(-1);
       continue;
     }
-    const int inner = static_cast<int>(std::lround(kHeightNear * K.fx * (-den) / in.plane->distance));
+    const int inner = static_cast<int>(std::lround(near_px));
     const float h = heightAt(in, u, v);
     const float hi = heightAt(in, left ? u + inner : u - inner, v);
     const bool object = (std::isfinite(h) && h > kObjectHeight) || (std::isfinite(hi) && hi > kObjectHeight);
@@ -724,8 +706,6 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   // read the vehicle's depth) is the line up to the vehicle
   cutAtObject(in, pixels, left, p);
   const Intrinsics& K = in.K;
-  const Eigen::Vector3d& n = in.plane->normal;
-  const double d = in.plane->distance;
   const double cos_heading = cosHeading(in, pixels);
 
   int paint_rows = 0, narrow_rows = 0, wide_rows = 0;
@@ -868,10 +848,8 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
       if (std::fabs(ev.shift) > kMinShift) {
         // move every point onto the painted band (the shift is metres across the road)
         for (auto& c : pixels) {
-          const Eigen::Vector3d ray((c.x - K.cx) / K.fx, (c.y - K.cy) / K.fy, 1.0);
-          const double den = n.dot(ray);
-          if (!(den < -1e-9)) continue;
-          c.x += static_cast<float>(ev.shift * K.fx * (-den) / d);
+          const double shift_px = roadPixelsAcross(K, *in.plane, K.ray(c.x, c.y), ev.shift);
+          if (shift_px != 0.0) c.x += static_cast<float>(shift_px);  // 0: not on the road
         }
       }
     }
@@ -897,9 +875,8 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
   const double cos_heading = cosHeading(in, pixels);
   // each point stands for the stretch of road half-way to its neighbours
   auto forward = [&](const cv::Point2f& c) {
-    const Eigen::Vector3d ray((c.x - in.K.cx) / in.K.fx, (c.y - in.K.cy) / in.K.fy, 1.0);
-    const double den = in.plane->normal.dot(ray);
-    return den < -1e-9 ? in.frame.toPlane(ray * (-in.plane->distance / den)).x() : NAN;
+    double f, ppm;
+    return roadAt(in, c.x, c.y, f, ppm) ? f : NAN;
   };
   double covered = 0.0, total = 0.0;
   yellow_.clear();

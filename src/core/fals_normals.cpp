@@ -22,10 +22,6 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // are missing also box, first and second moment of kv = k c and the moments of c.
 enum Plane { kW0, kW1, kC, kV0, kV1, kV2, kCv1, kCv2, kPlanes };
 
-bool sameIntrinsics(const Intrinsics& a, const Intrinsics& b) {
-  return a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy;
-}
-
 bool sameMap(const cv::Mat& a, const cv::Mat& b) {
   if (a.empty() != b.empty()) return false;
   if (a.empty()) return true;
@@ -277,7 +273,7 @@ void zeroOutsideMask(const uint8_t* m, const uint64_t* solved, int W, float* g) 
 
 void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int window,
                             const cv::Mat& col_map, const cv::Mat& row_map) {
-  if (size == size_ && window == window_ && sameIntrinsics(K, K_) && sameMap(col_map, col_map_) &&
+  if (size == size_ && window == window_ && K == K_ && sameMap(col_map, col_map_) &&
       sameMap(row_map, row_map_) && !k_.empty())
     return;
   size_ = size;
@@ -293,11 +289,11 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   ay_.resize(H);
   for (int x = 0; x < W; ++x) {
     src_u_[x] = col_map_.empty() ? x : col_map_.at<int>(x);
-    ax_[x] = static_cast<float>((src_u_[x] - K.cx) / K.fx);
+    ax_[x] = static_cast<float>(K.ray(src_u_[x], 0.0).x());
   }
   for (int y = 0; y < H; ++y) {
     src_v_[y] = row_map_.empty() ? y : row_map_.at<int>(y);
-    ay_[y] = static_cast<float>((src_v_[y] - K.cy) / K.fy);
+    ay_[y] = static_cast<float>(K.ray(0.0, src_v_[y]).y());
   }
   // The separable path needs equally spaced source pixels (x -> a + step x).
   auto uniform = [](const std::vector<int>& m, float& step) {
@@ -310,11 +306,10 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
 
   k_.create(size, CV_32FC1);
   for (int y = 0; y < H; ++y) {
-    const double ry = (src_v_[y] - K.cy) / K.fy;
     float* k = k_.ptr<float>(y);
     for (int x = 0; x < W; ++x) {
-      const double rx = (src_u_[x] - K.cx) / K.fx;
-      k[x] = static_cast<float>(1.0 / (rx * rx + ry * ry + 1.0));
+      const Eigen::Vector3d w = K.ray(src_u_[x], src_v_[y]);
+      k[x] = static_cast<float>(1.0 / (w.x() * w.x() + w.y() * w.y() + 1.0));
     }
   }
   ncols_.resize(W);
@@ -693,7 +688,8 @@ bool falsNormalAt(const cv::Mat& points, int x, int y, int window, const Intrins
                         static_cast<double>(p[2]) * p[2];
       if (!(r2 > 0.0) || !std::isfinite(r2)) continue;
       const int sx = col_map.empty() ? xx : col_map.at<int>(xx);
-      double v[3] = {(sx - K.cx) / K.fx, (sy - K.cy) / K.fy, 1.0};
+      const Eigen::Vector3d w = K.ray(sx, sy);
+      double v[3] = {w.x(), w.y(), 1.0};
       const double inv = 1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + 1.0);
       for (double& c : v) c *= inv;
       const double inv_r = 1.0 / std::sqrt(r2);
