@@ -20,6 +20,10 @@ set(RLD_CORE_SOURCES
   src/core/lane_detector.cpp
   src/core/road_surface.cpp
   src/core/road_edge_finder.cpp
+  src/core/row_statistics.cpp
+  src/core/classifier_input.cpp
+  src/core/band_profile.cpp
+  src/core/line_follower.cpp
   src/core/boundary_classifier.cpp
   src/core/boundary_candidates.cpp
   src/core/lane_fitter.cpp
@@ -47,6 +51,10 @@ set(RLD_CORE_TESTS
   test_lane_tracker
   test_road_surface
   test_road_edge_finder
+  test_row_statistics
+  test_classifier_input
+  test_band_profile
+  test_line_follower
   test_boundary_classifier
   test_boundary_candidates
   test_lane_fitter
