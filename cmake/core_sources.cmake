@@ -11,6 +11,7 @@ set(RLD_CORE_SOURCES
   src/core/depth_points.cpp
   src/core/disparity_depth.cpp
   src/core/fals_normals.cpp
+  src/core/fals_normal_at.cpp
   src/core/line_template.cpp
   src/core/template_matching.cpp
   src/core/response_map.cpp
