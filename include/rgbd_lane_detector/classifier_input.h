@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "rgbd_lane_detector/lane_tracker.h"
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
@@ -32,7 +32,7 @@ struct ClassifierInput {
   const cv::Mat* filled = nullptr;
   double scale_x = 1.0, scale_y = 1.0;   ///< processing / input resolution
   PlaneEstimate const* plane = nullptr;  ///< road plane (valid)
-  PlaneFrame frame;                      ///< its road coordinates (forward, lateral right)
+  RoadFrame frame;  ///< its road frame (REP-103: x forward, y left)
 
   /// The road under input pixel (u, v): its forward distance @p f in the road frame and the
   /// pixels per metre @p ppm across the road there; false where the pixel's ray does not meet it.

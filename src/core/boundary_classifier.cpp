@@ -186,7 +186,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_,
                   &pair_step_, &pair_raise_, &far_step_})
     v->clear();
-  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid) {
+  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid()) {
     ev.reason = "no plane";
     return;
   }
@@ -363,7 +363,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
                                       const std::vector<cv::Point2f>& pixels, bool left,
                                       const Params& p, float& coverage, float& yellowness) {
   coverage = yellowness = -1.0f;
-  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid || pixels.size() < 2) return;
+  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid() || pixels.size() < 2) return;
   const double cos_heading = in.cosHeading(pixels);
   // each point stands for the stretch of road half-way to its neighbours
   auto forward = [&](const cv::Point2f& c) {

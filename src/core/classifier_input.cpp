@@ -18,7 +18,7 @@ bool ClassifierInput::roadAt(double u, double v, double& f, double& ppm) const {
   const Eigen::Vector3d ray = K.ray(u, v);
   double t;
   if (!rayPlaneDepth(*plane, ray, t)) return false;
-  f = frame.toPlane(ray * t).x();
+  f = frame.toRoad(ray * t).x();
   ppm = K.fx / t;
   return true;
 }
@@ -60,7 +60,7 @@ double ClassifierInput::cosHeading(const std::vector<cv::Point2f>& pixels) const
     const Eigen::Vector3d ray = K.ray(c.x, c.y);
     double depth;
     if (!rayPlaneDepth(*plane, ray, depth)) continue;
-    const Eigen::Vector2d q = frame.toPlane(ray * depth);
+    const Eigen::Vector2d q = frame.toRoad(ray * depth);
     if (!have_a) {
       a = q;
       have_a = true;

@@ -31,7 +31,7 @@ template <typename FindInRow>
 int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                              std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
                              FindInRow&& find) {
-  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return 0;
+  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid()) return 0;
   // the trace by row, near (bottom) to far (top)
   int v_near = 0, v_far = in.colour->rows;
   for (const auto& c : pixels) {

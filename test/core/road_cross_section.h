@@ -116,7 +116,7 @@ struct RenderedRoad {
     in.K = kK;
     in.points = &points;
     in.plane = &plane;
-    in.frame = PlaneFrame::fromPlane(plane);
+    in.frame = RoadFrame::fromPlane(plane);
   }
 };
 
