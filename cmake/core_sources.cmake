@@ -41,6 +41,7 @@ set(RLD_CORE_TESTS
   test_depth_points
   test_disparity_depth
   test_fals_normals
+  test_fals_window
   test_template_matching
   test_response_map
   test_pca_refinement

@@ -20,7 +20,6 @@
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/response_map.h"
-#include "fals_window.h"  // private: the window algebra
 #include "simd.h"  // private: targets
 
 namespace rgbd_lane_detector {
@@ -67,30 +66,6 @@ Stats meanError(const cv::Mat& normals, const cv::Mat& pts, const Eigen::Vector3
     }
   if (s.n) s.mean /= s.n;
   return s;
-}
-
-// The symmetric 3x3 solve by the adjugate, in integers (exact in float and double): Q = [4 1 2;
-// 1 5 3; 2 3 6], det Q = 70, Q (1, -2, 3) = (8, 0, 14).
-template <typename T>
-void expectAdjugateSolve() {
-  const T q[6] = {4, 1, 2, 5, 3, 6};
-  T a[6];
-  fals::symmetricAdjugate(q, a);
-  const T Q[3][3] = {{q[0], q[1], q[2]}, {q[1], q[3], q[4]}, {q[2], q[4], q[5]}};
-  const T A[3][3] = {{a[0], a[1], a[2]}, {a[1], a[3], a[4]}, {a[2], a[4], a[5]}};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      EXPECT_EQ(Q[i][0] * A[0][j] + Q[i][1] * A[1][j] + Q[i][2] * A[2][j], i == j ? 70 : 0);
-  T m[3];
-  fals::adjugateTimes(a, T(8), T(0), T(14), m);  // det Q times the solution
-  EXPECT_EQ(m[0], 70);
-  EXPECT_EQ(m[1], -140);
-  EXPECT_EQ(m[2], 210);
-}
-
-TEST(FalsWindow, AdjugateSolvesASymmetricSystem) {
-  expectAdjugateSolve<float>();
-  expectAdjugateSolve<double>();
 }
 
 TEST(FalsNormals, TiltedPlaneIsAccurateAndFacesTheCamera) {
