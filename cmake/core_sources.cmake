@@ -11,6 +11,7 @@ set(RLD_CORE_SOURCES
   src/core/depth_points.cpp
   src/core/disparity_depth.cpp
   src/core/fals_normals.cpp
+  src/core/fals_normal_at.cpp
   src/core/line_template.cpp
   src/core/template_matching.cpp
   src/core/response_map.cpp
@@ -20,6 +21,10 @@ set(RLD_CORE_SOURCES
   src/core/lane_detector.cpp
   src/core/road_surface.cpp
   src/core/road_edge_finder.cpp
+  src/core/row_statistics.cpp
+  src/core/classifier_input.cpp
+  src/core/band_profile.cpp
+  src/core/line_follower.cpp
   src/core/boundary_classifier.cpp
   src/core/boundary_candidates.cpp
   src/core/lane_fitter.cpp
@@ -36,6 +41,7 @@ set(RLD_CORE_TESTS
   test_depth_points
   test_disparity_depth
   test_fals_normals
+  test_fals_window
   test_template_matching
   test_response_map
   test_pca_refinement
@@ -47,6 +53,10 @@ set(RLD_CORE_TESTS
   test_lane_tracker
   test_road_surface
   test_road_edge_finder
+  test_row_statistics
+  test_classifier_input
+  test_band_profile
+  test_line_follower
   test_boundary_classifier
   test_boundary_candidates
   test_lane_fitter

@@ -20,7 +20,9 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "rgbd_lane_detector/lane_tracker.h"
+#include "rgbd_lane_detector/band_profile.h"
+#include "rgbd_lane_detector/classifier_input.h"
+#include "rgbd_lane_detector/line_follower.h"
 #include "rgbd_lane_detector/params.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -51,36 +53,19 @@ struct BoundaryEvidence {
   float margin = 0.0f;          ///< in [0, 1]: how clearly the measurements support the kind
 };
 
-/// The frame a classifier reads (views; nothing is copied).
-struct ClassifierInput {
-  const cv::Mat* colour = nullptr;     ///< input colour image
-  PixelFormat format = PixelFormat::kBgr8;
-  /// CV_8UC1 grey of the input image (greyValue() weights), valid in the rows @c grey_rows; the
-  /// classifier measures nothing on other rows
-  const cv::Mat* grey = nullptr;
-  cv::Range grey_rows;
-  Intrinsics K;                        ///< of the input image
-  const cv::Mat* points = nullptr;     ///< CV_32FC3 organised points at the processing scale
-  /// optional CV_8UC1 of the points' size: non-zero where a point is the road plane extended
-  /// over missing depth, not a measurement (no height is read there)
-  const cv::Mat* filled = nullptr;
-  double scale_x = 1.0, scale_y = 1.0; ///< processing / input resolution
-  PlaneEstimate const* plane = nullptr;  ///< road plane (valid)
-  PlaneFrame frame;                    ///< its road coordinates (forward, lateral right)
-};
-
 /**
  * @brief Classifies traced lines as paint, road edge or no boundary from the colour profile
- * across each traced point and the depth beside it. Reuses its buffers (no allocation in
+ * across each traced point (BandProfile) and the depth beside it: the decision; the row walks
+ * that put a line on its paint or edge are LineFollower's. Reuses its buffers (no allocation in
  * steady state).
  */
 class BoundaryClassifier {
  public:
   /// m either side of a traced line's column where followLine() seeks its paint by default
-  static constexpr double kTraceReach = 0.15;
+  static constexpr double kTraceReach = LineFollower::kTraceReach;
   /// Pixels of a line the per-line buffers are reserved for (they grow past them once, on a
   /// taller image).
-  static constexpr size_t kReservedPixels = 4096;
+  static constexpr size_t kReservedPixels = LineFollower::kReservedPixels;
   BoundaryClassifier();
 
   /**
@@ -188,68 +173,14 @@ class BoundaryClassifier {
                     const Params& p, float& coverage, float& yellowness);
 
  private:
-  /// Height above the road of the depth at an input pixel (NaN without depth).
-  float heightAt(const ClassifierInput& in, int u, int v) const;
-
-  /// Depth point (optical frame) at an input pixel, NaN without depth.
-  Eigen::Vector3f pointAt(const ClassifierInput& in, int u, int v) const;
-  /**
-   * @brief Centre of the bright band on row @p v within @p half px of column @p u (sub-pixel).
-   * @return false when no band stands out by the paint contrast or it is wider than @p max_px.
-   */
-  bool bandCentre(const ClassifierInput& in, int v, double u, int half, double max_px,
-                  const Params& p, double& centre);
-
-  /// A bright band of the current profile: half-peak edges (profile offsets, sub-pixel).
-  struct Band {
-    double lo = 0.0, hi = 0.0;
-    float peak = 0.0f;
-    bool open = false;  ///< reaches the end of the profile (width unknown)
-  };
-  /// What one image row across a line shows (measureRow()).
-  struct RowMeasure {
-    int v = 0, u0 = 0, W = 0;   ///< row, the line's column, profile half width (px)
-    int outer_dir = 1;          ///< image direction away from the vehicle
-    double depth = 0.0, ppm = 0.0;  ///< the road's depth at the row, pixels per metre across
-    float bg[2] = {0.f, 0.f};   ///< grey of the road beside the line: inner, outer
-    float chroma[2][2] = {{0.f, 0.f}, {0.f, 0.f}};  ///< rg chromaticity of both sides
-    float top = 0.f, contrast = 0.f, peak = 0.f;  ///< brighter side, band contrast, brightest near the line
-    const Band* paint = nullptr;   ///< nearest band of paint width (where resolved)
-    const Band* narrow = nullptr;  ///< nearest narrower band
-    const Band* wide = nullptr;    ///< nearest wider band
-  };
-  /// The row walk of followLine() and followEdge(): @p find(v, u, ppm, from_trace, column) seeks
-  /// the boundary on row v near column u (ppm pixels per metre across the road; u predicted from
-  /// the trace, or from the rows found).
-  template <typename FindInRow>
-  int followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                 std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
-                 FindInRow&& find);
-  /// Where the road ends on row @p v, scanning outward from @p inside metres inside column @p u.
-  bool edgeInRow(const ClassifierInput& in, int v, double u, double ppm, bool left,
-                 const Params& p, double inside, double& edge);
-  /// Profile of the row through @p c across the line (profile_, bands_); false: not measurable.
-  bool measureRow(const ClassifierInput& in, const cv::Point2f& c, bool left, const Params& p,
-                  double cos_heading, RowMeasure& m);
-  /// cos of the line's heading in the road plane (1 when too short to tell).
-  double cosHeading(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels) const;
-  /// Segment profile_ (centre index @p W) into bands above @p low over the background @p base.
-  void findBands(int W, float base, float low);
-  /// Append the band of profile offsets [a, b] (its peak and half-peak edges).
-  void addBand(int a, int b, float base, bool open, int W);
-
-  std::vector<float> profile_;
-  std::vector<Band> bands_;
-  std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, side_, shift_;
-  std::vector<float> yellow_;  ///< measurePaint(): yellowness per row (measureRow() uses side_)
+  BandProfile profile_;
+  LineFollower follower_;
+  std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, shift_;
+  std::vector<float> yellow_;  ///< measurePaint(): yellowness per row
+  std::vector<float> row_grey_;  ///< arrowHead(): grey values of a row
   std::vector<signed char> object_;  ///< cutAtObject(): per pixel 1 object, 0 road, 2 off, -1 none
   std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner
   std::vector<float> far_step_;  ///< classify(): the outer side's step at kHeightFar, per row
-  std::vector<float> twin_[2];  ///< centreDoubleLine(): offsets (m) of the second band, per side
-  std::vector<cv::Point2f> followed_;  ///< rows found by followLine(), far part
-  std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
-  std::vector<unsigned char> other_;  ///< edgeInRow(): pixels of a row that are not road
-  std::vector<double> follow_f_;       ///< forward distance (m) of each row found in one direction
 };
 
 }  // namespace rgbd_lane_detector

@@ -39,13 +39,24 @@ inline bool rayPlaneDepth(const PlaneEstimate& plane, const Eigen::Vector3d& ray
 }
 
 /**
+ * @brief Pixels that @p metres across the road span where @p ray meets the plane:
+ * metres fx / depth, computed as ((metres fx) (-n . ray)) / d. 0 where the ray does not meet the
+ * plane (rayPlaneDepth()).
+ */
+inline double roadPixelsAcross(const Intrinsics& K, const PlaneEstimate& plane,
+                               const Eigen::Vector3d& ray, double metres) {
+  const double den = plane.normal.dot(ray);
+  return den < -1e-9 ? metres * K.fx * (-den) / plane.distance : 0.0;
+}
+
+/**
  * @brief Pixels per metre across the road where @p ray meets the plane: fx / depth, computed as
- * fx (-n . ray) / d. 0 where the ray does not meet the plane (rayPlaneDepth()).
+ * fx (-n . ray) / d (roadPixelsAcross() of 1 m: 1 fx is fx exactly). 0 where the ray does not
+ * meet the plane (rayPlaneDepth()).
  */
 inline double roadPixelsPerMetre(const Intrinsics& K, const PlaneEstimate& plane,
                                  const Eigen::Vector3d& ray) {
-  const double den = plane.normal.dot(ray);
-  return den < -1e-9 ? K.fx * (-den) / plane.distance : 0.0;
+  return roadPixelsAcross(K, plane, ray, 1.0);
 }
 
 /**

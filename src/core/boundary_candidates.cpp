@@ -88,7 +88,7 @@ void classifierInputOf(const CandidateFrame& f, const PlaneEstimate& plane, Clas
   in.scale_x = static_cast<double>(f.proc_size.width) / f.input_size.width;
   in.scale_y = static_cast<double>(f.proc_size.height) / f.input_size.height;
   in.plane = &plane;
-  in.frame = PlaneFrame::fromPlane(plane);
+  in.frame = RoadFrame::fromPlane(plane);
 }
 
 BoundaryCandidate& BoundaryCandidateFinder::next(int side) {
@@ -412,7 +412,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   int stretches = 0;
   double near_f = std::numeric_limits<double>::infinity(), far_f = -near_f, last_f = 0.0;
   double start_f = 0.0, covered = 0.0;
-  const PlaneFrame& frame = classifier_input_.frame;
+  const PlaneFrame frame = PlaneFrame::fromPlane(*classifier_input_.plane);
   for (const auto& px : pixels) {  // near to far
     Eigen::Vector2d q, q1;
     if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
@@ -452,9 +452,10 @@ bool BoundaryCandidateFinder::runsAhead(const CandidateFrame& f,
   // from its nearest to its farthest row, in road coordinates
   Eigen::Vector2d a(0.0, 0.0), b(0.0, 0.0);
   bool have = false;
+  const PlaneFrame frame = PlaneFrame::fromPlane(*classifier_input_.plane);
   for (const auto& px : pixels) {
     Eigen::Vector2d q;
-    if (!roadCoordinates(f, classifier_input_.frame, px.x, px.y, q)) continue;
+    if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
     if (!have) a = q;
     b = q;
     have = true;
@@ -507,7 +508,8 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
       return false;
   }
   Eigen::Vector2d q;
-  if (!roadCoordinates(f, in.frame, m.seed.x, m.seed.y, q)) return false;
+  const PlaneFrame frame = PlaneFrame::fromPlane(*in.plane);
+  if (!roadCoordinates(f, frame, m.seed.x, m.seed.y, q)) return false;
   // an ego-lane boundary's distance beside the camera (lateral: + right)
   const double beside = left ? -q.y() : q.y();
   if (beside < params_.boundary_offset_min || beside > params_.boundary_offset_max) return false;
@@ -515,7 +517,7 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
   seed_pixels_.clear();
   seed_points_.clear();
   for (double df : {-kSeedSpan, 0.0, kSeedSpan}) {
-    const Eigen::Vector3d p = in.frame.toCamera(q.x() + df, q.y());
+    const Eigen::Vector3d p = frame.toCamera(q.x() + df, q.y());
     if (!(p.z() > 0.1)) continue;
     seed_pixels_.emplace_back(static_cast<float>(f.K.fx * p.x() / p.z() + f.K.cx),
                               static_cast<float>(f.K.fy * p.y() / p.z() + f.K.cy));
@@ -612,8 +614,8 @@ void BoundaryCandidateFinder::addRoadEdgesFromDepth(const CandidateFrame& f) {
     const RoadEdgeLine& e = depth_edges_[side];
     if (!e.found) continue;
     const double a = e.offset, b = std::tan(e.heading);
-    if (candidateOnLine(f, side, BoundaryKind::kRoadEdge, in.frame, kEdgeReach,
-                        [a, b](double f) { return a + b * f; }))
+    if (candidateOnLine(f, side, BoundaryKind::kRoadEdge, PlaneFrame::fromPlane(*in.plane),
+                        kEdgeReach, [a, b](double f) { return a + b * f; }))
       continue;  // traced already
     BoundaryCandidate& c = next(side);
     MarkerTrace& m = c.trace;

@@ -2,7 +2,7 @@
 // per-target section (once per SIMD target, inside rgbd_lane_detector::HWY_NAMESPACE). Every lane
 // repeats the scalar code's operations in the same order (no FMA contraction: the core is built
 // with -ffp-contract=off), so all targets give the same bits. Uses RowConst, finish(), the Plane
-// indices and kWellConditioned of fals_normals.cpp.
+// indices and kWellConditioned of fals_window.h.
 
 /// The float vectors of the target (at most 16 lanes: masks fit an unsigned) as the few
 /// operations the kernels use.

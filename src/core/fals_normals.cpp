@@ -9,143 +9,18 @@
 #include <cstring>
 #include <limits>
 
+#include "fals_units.h"
+#include "fals_window.h"
 #include "simd.h"
 
 namespace rgbd_lane_detector {
+using namespace fals;  // NOLINT: the window algebra and mask units, also in the kernels
 namespace {
-
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// Planes of one row of vertical sums over the window's rows (offset dv from the centre row):
-// box and first moment in dv of t = k / z (valid pixels), box of the valid flag c; where pixels
-// are missing also box, first and second moment of kv = k c and the moments of c.
-enum Plane { kW0, kW1, kC, kV0, kV1, kV2, kCv1, kCv2, kPlanes };
-
-bool sameIntrinsics(const Intrinsics& a, const Intrinsics& b) {
-  return a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy;
-}
 
 bool sameMap(const cv::Mat& a, const cv::Mat& b) {
   if (a.empty() != b.empty()) return false;
   if (a.empty()) return true;
   return a.total() == b.total() && cv::norm(a, b, cv::NORM_INF) == 0.0;
-}
-
-// Box, first and second moment of x[-h..h] (offsets step by `stride`), summed in one fixed order
-// that the vector code repeats lane for lane.
-inline void moments(const float* x, std::ptrdiff_t stride, int h, float& box, float& m1,
-                    float& m2) {
-  box = x[0];
-  m1 = 0.f;
-  m2 = 0.f;
-  for (int d = 1; d <= h; ++d) {
-    const float a = x[d * stride] + x[-d * stride], e = x[d * stride] - x[-d * stride];
-    box = box + a;
-    m1 = m1 + static_cast<float>(d) * e;
-    m2 = m2 + static_cast<float>(d * d) * a;
-  }
-}
-
-/// Per-row constants of the solve and of G.
-struct RowConst {
-  float ay = 0.f;              ///< (v - cy) / fy of the row
-  float fxs = 0.f, fys = 0.f;  ///< fx / step_u, fy / step_v: n = B^-T m
-  float full_rows = 0.f;       ///< window rows inside the image
-  // G
-  float alpha = 0.f, beta = 0.f, td = 0.f, inv_td = 0.f, row_term = 0.f;
-  bool near_high = true;
-  float up[3] = {0.f, -1.f, 0.f};
-};
-
-// moments() over separate rows: rows[h + d][x] is the value at offset d.
-inline void momentsRows(const float* const* rows, std::ptrdiff_t x, int h, float& box, float& m1,
-                        float& m2) {
-  box = rows[h][x];
-  m1 = 0.f;
-  m2 = 0.f;
-  for (int d = 1; d <= h; ++d) {
-    const float a = rows[h + d][x] + rows[h - d][x], e = rows[h + d][x] - rows[h - d][x];
-    box = box + a;
-    m1 = m1 + static_cast<float>(d) * e;
-    m2 = m2 + static_cast<float>(d * d) * a;
-  }
-}
-
-/// Window sums of a pixel with missing pixels (float path).
-struct Partial {
-  float K0, Ku, Kv, Kuu, Kuv, Kvv, N, Cu1, Cu2, Cb1, Cb2;
-};
-
-/// Windows with missing pixels are solved in float when det Q > this K0 Kuu Kvv (Hadamard ratio;
-/// 1 for a diagonal Q), in double otherwise. At 1/16 the float solve stays within 1e-4 rad of
-/// the double one (test_fals_normals); thin crescents of valid pixels fall below it.
-constexpr float kWellConditioned = 1.f / 16;
-
-/// Verdict on a window with missing pixels.
-enum class PartialCase { kNone, kFloat, kExact };
-
-// Windows with missing pixels: none below 3 valid pixels or with all valid pixels in one column
-// or one row (exact: the sums are small integers); solved in float when Q is well conditioned
-// (det Q > (K0 Kuu Kvv) / 4, diagonal dominance), else left to the exact double path.
-inline PartialCase solvePartial(const Partial& q, float T0, float Tu, float Tv, float ax,
-                                const RowConst& rc, float n[3]) {
-  const bool span =
-      q.N >= 3.f && q.N * q.Cu2 - q.Cu1 * q.Cu1 > 0.f && q.N * q.Cb2 - q.Cb1 * q.Cb1 > 0.f;
-  const float a00 = q.Kuu * q.Kvv - q.Kuv * q.Kuv;
-  const float a01 = q.Kuv * q.Kv - q.Ku * q.Kvv;
-  const float a02 = q.Ku * q.Kuv - q.Kuu * q.Kv;
-  const float a11 = q.K0 * q.Kvv - q.Kv * q.Kv;
-  const float a12 = q.Ku * q.Kv - q.K0 * q.Kuv;
-  const float a22 = q.K0 * q.Kuu - q.Ku * q.Ku;
-  const float det = (q.K0 * a00 + q.Ku * a01) + q.Kv * a02;
-  const bool well = det > kWellConditioned * ((q.K0 * q.Kuu) * q.Kvv);
-  const float m0 = (a00 * T0 + a01 * Tu) + a02 * Tv;
-  const float m1 = (a01 * T0 + a11 * Tu) + a12 * Tv;
-  const float m2 = (a02 * T0 + a12 * Tu) + a22 * Tv;
-  n[0] = rc.fxs * m1;
-  n[1] = rc.fys * m2;
-  n[2] = (m0 - ax * n[0]) - rc.ay * n[1];
-  return !span ? PartialCase::kNone : (well ? PartialCase::kFloat : PartialCase::kExact);
-}
-
-// Q m = s up to the positive factor det Q, from the precomputed adj(Q) of a window without missing
-// pixels: m' = adj(Q) s, then n' = B^-T m' = (fxs m1, fys m2, m0 - ax n'x - ay n'y).
-// Same operation order as the vector code.
-inline void solveTable(const float a[6], float T0, float Tu, float Tv, float ax, const RowConst& rc,
-                       float n[3]) {
-  const float m0 = (a[0] * T0 + a[1] * Tu) + a[2] * Tv;
-  const float m1 = (a[1] * T0 + a[3] * Tu) + a[4] * Tv;
-  const float m2 = (a[2] * T0 + a[4] * Tu) + a[5] * Tv;
-  n[0] = rc.fxs * m1;
-  n[1] = rc.fys * m2;
-  n[2] = (m0 - ax * n[0]) - rc.ay * n[1];
-}
-
-// Write the oriented unit normal and/or G of one pixel from its unnormalised normal.
-inline void finish(const float n[3], bool ok, const float* p, float ax, const RowConst& rc,
-                   float* normal_out, float* g_out) {
-  const float len2 = (n[0] * n[0] + n[1] * n[1]) + n[2] * n[2];
-  ok = ok && len2 > 0.f && len2 < kInf;
-  const float inv_len = 1.f / std::sqrt(ok ? len2 : 1.f);
-  const float z = p[2];
-  if (normal_out) {
-    // toward the camera: n . p < 0 at the centre point, or along its ray when it has no depth
-    const bool has_p = z > 0.f && z < kInf;
-    const float rx = has_p ? p[0] : ax, ry = has_p ? p[1] : rc.ay, rz = has_p ? z : 1.f;
-    const float dot = (n[0] * rx + n[1] * ry) + n[2] * rz;
-    const float s = dot > 0.f ? -inv_len : inv_len;
-    normal_out[0] = ok ? n[0] * s : kNaN;
-    normal_out[1] = ok ? n[1] * s : kNaN;
-    normal_out[2] = ok ? n[2] * s : kNaN;
-  }
-  if (g_out) {
-    const float nup = std::fabs((n[0] * rc.up[0] + n[1] * rc.up[1]) + n[2] * rc.up[2]) * inv_len;
-    const float normal_term = ok ? nup : 0.f;
-    const bool near = z <= rc.td && z > -kInf;
-    const float depth_term = rc.near_high ? (rc.td - z) * rc.inv_td : z * rc.inv_td;
-    *g_out = rc.alpha * normal_term + rc.beta * (near ? depth_term : rc.row_term);
-  }
 }
 
 }  // namespace
@@ -194,90 +69,10 @@ struct FalsNormals::Output {
   RowConst base;  ///< G constants (row fields are filled per row)
 };
 
-namespace {
-
-/// With a mask, columns are chosen in units of 16 (a whole number of vectors on every target):
-/// bit u of a row's unit set stands for the columns [16 u, 16 u + 16).
-constexpr int kUnit = 16;
-
-// Call fn(x0, x1) for each run of consecutive units in the set (nullptr: one run of every
-// column), as the columns [x0, x1) clipped to the width W. Bits of units beyond W must be 0.
-template <typename F>
-void forEachRun(const uint64_t* units, int W, F&& fn) {
-  if (!units) {
-    fn(0, W);
-    return;
-  }
-  const int n = (W + kUnit - 1) / kUnit;
-  int u = 0;
-  while (u < n) {
-    const uint64_t rest = units[u / 64] >> (u % 64);
-    if (rest == 0) {
-      u = (u / 64 + 1) * 64;
-      continue;
-    }
-    u += __builtin_ctzll(rest);
-    int e = u;  // the first unit after the run
-    while (e < n) {
-      const int s = e % 64;
-      const uint64_t word = units[e / 64] >> s;  // zeros shifted in at the top end the run there
-      const int ones = word == ~uint64_t{0} ? 64 : __builtin_ctzll(~word);
-      e += ones;
-      if (ones < 64 - s) break;
-    }
-    e = std::min(e, n);
-    fn(u * kUnit, std::min(W, e * kUnit));
-    u = e;
-  }
-}
-
-// The units of a mask row with any nonzero pixel.
-void unitsOfRow(const uint8_t* m, int W, uint64_t* units) {
-  const int n = (W + kUnit - 1) / kUnit;
-  std::fill(units, units + (n + 63) / 64, uint64_t{0});
-  for (int u = 0; u < n; ++u) {
-    const int x0 = u * kUnit;
-    bool any = false;
-    if (x0 + kUnit <= W) {
-      uint64_t a, b;
-      std::memcpy(&a, m + x0, 8);
-      std::memcpy(&b, m + x0 + 8, 8);
-      any = (a | b) != 0;
-    } else {
-      for (int x = x0; x < W; ++x) any = any || m[x] != 0;
-    }
-    if (any) units[u / 64] |= uint64_t{1} << (u % 64);
-  }
-}
-
-// dst = src with each unit's neighbours (one unit each side), within n units.
-void dilateUnits(const uint64_t* src, int n, uint64_t* dst) {
-  const int words = (n + 63) / 64;
-  for (int j = 0; j < words; ++j) {
-    const uint64_t left = (src[j] << 1) | (j > 0 ? src[j - 1] >> 63 : 0);
-    const uint64_t right = (src[j] >> 1) | (j + 1 < words ? src[j + 1] << 63 : 0);
-    dst[j] = src[j] | left | right;
-  }
-  if (n % 64) dst[words - 1] &= (uint64_t{1} << (n % 64)) - 1;
-}
-
-// G is 0 outside the mask: between the solved units, and at their pixels outside it.
-void zeroOutsideMask(const uint8_t* m, const uint64_t* solved, int W, float* g) {
-  int end = 0;
-  forEachRun(solved, W, [&](int x0, int x1) {
-    std::fill(g + end, g + x0, 0.f);
-    for (int x = x0; x < x1; ++x)
-      if (!m[x]) g[x] = 0.f;
-    end = x1;
-  });
-  std::fill(g + end, g + W, 0.f);
-}
-
-}  // namespace
 
 void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int window,
                             const cv::Mat& col_map, const cv::Mat& row_map) {
-  if (size == size_ && window == window_ && sameIntrinsics(K, K_) && sameMap(col_map, col_map_) &&
+  if (size == size_ && window == window_ && K == K_ && sameMap(col_map, col_map_) &&
       sameMap(row_map, row_map_) && !k_.empty())
     return;
   size_ = size;
@@ -293,11 +88,11 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   ay_.resize(H);
   for (int x = 0; x < W; ++x) {
     src_u_[x] = col_map_.empty() ? x : col_map_.at<int>(x);
-    ax_[x] = static_cast<float>((src_u_[x] - K.cx) / K.fx);
+    ax_[x] = static_cast<float>(K.ray(src_u_[x], 0.0).x());
   }
   for (int y = 0; y < H; ++y) {
     src_v_[y] = row_map_.empty() ? y : row_map_.at<int>(y);
-    ay_[y] = static_cast<float>((src_v_[y] - K.cy) / K.fy);
+    ay_[y] = static_cast<float>(K.ray(0.0, src_v_[y]).y());
   }
   // The separable path needs equally spaced source pixels (x -> a + step x).
   auto uniform = [](const std::vector<int>& m, float& step) {
@@ -310,11 +105,10 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
 
   k_.create(size, CV_32FC1);
   for (int y = 0; y < H; ++y) {
-    const double ry = (src_v_[y] - K.cy) / K.fy;
     float* k = k_.ptr<float>(y);
     for (int x = 0; x < W; ++x) {
-      const double rx = (src_u_[x] - K.cx) / K.fx;
-      k[x] = static_cast<float>(1.0 / (rx * rx + ry * ry + 1.0));
+      const Eigen::Vector3d w = K.ray(src_u_[x], src_v_[y]);
+      k[x] = static_cast<float>(1.0 / (w.x() * w.x() + w.y() * w.y() + 1.0));
     }
   }
   ncols_.resize(W);
@@ -367,8 +161,9 @@ void FalsNormals::ensureTable(const cv::Range& rows) {
         Kuv += du * v[1];
         Kvv += v[2];
       }
-      const double a[6] = {Kuu * Kvv - Kuv * Kuv, Kuv * Kv - Ku * Kvv, Ku * Kuv - Kuu * Kv,
-                           K0 * Kvv - Kv * Kv,    Ku * Kv - K0 * Kuv,  K0 * Kuu - Ku * Ku};
+      const double q[6] = {K0, Ku, Kv, Kuu, Kuv, Kvv};
+      double a[6];
+      symmetricAdjugate(q, a);
       for (int j = 0; j < 6; ++j)
         table_.ptr<float>(j * n + y - table_rows_.start)[x] = static_cast<float>(a[j]);
     }
@@ -451,12 +246,12 @@ bool FalsNormals::solveWindow(int x, int y, const float* const* kv, const float*
   const double full =
       static_cast<double>(ncols_[x]) * (std::min(H - 1, y + h) - std::max(0, y - h) + 1);
   if (N < 3.0 || (N < full && (N * Nuu - Nu * Nu <= 0.0 || N * Nvv - Nv * Nv <= 0.0))) return false;
-  const double a00 = Kuu * Kvv - Kuv * Kuv, a01 = Kuv * Kv - Ku * Kvv, a02 = Ku * Kuv - Kuu * Kv;
-  const double a11 = K0 * Kvv - Kv * Kv, a12 = Ku * Kv - K0 * Kuv, a22 = K0 * Kuu - Ku * Ku;
-  const double m0 = a00 * T0 + a01 * Tu + a02 * Tv, m1 = a01 * T0 + a11 * Tu + a12 * Tv,
-               m2 = a02 * T0 + a12 * Tu + a22 * Tv;
-  const double n0 = K_.fx * m1, n1 = K_.fy * m2;
-  const double n2 = m0 - ax_[x] * n0 - ay_[y] * n1;
+  const double q[6] = {K0, Ku, Kv, Kuu, Kuv, Kvv};
+  double a[6], m[3];
+  symmetricAdjugate(q, a);
+  adjugateTimes(a, T0, Tu, Tv, m);
+  const double n0 = K_.fx * m[1], n1 = K_.fy * m[2];
+  const double n2 = m[0] - ax_[x] * n0 - ay_[y] * n1;
   // to unit length before rounding to float (det Q can be tiny)
   const double len = std::sqrt(n0 * n0 + n1 * n1 + n2 * n2);
   if (!(len > 0.0) || !std::isfinite(len)) return false;
@@ -675,65 +470,6 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
     for (int i = 0; i < n_slow; ++i) exact(slow_[i]);
     if (masked) zeroOutsideMask(out.mask->ptr<uint8_t>(y), solve, W, grow);
   }
-}
-
-bool falsNormalAt(const cv::Mat& points, int x, int y, int window, const Intrinsics& K,
-                  const cv::Mat& col_map, const cv::Mat& row_map, float n[3]) {
-  if (points.type() != CV_32FC3 || x < 0 || y < 0 || x >= points.cols || y >= points.rows)
-    return false;
-  const int h = window / 2;
-  double M[6] = {0, 0, 0, 0, 0, 0}, b[3] = {0, 0, 0};
-  int count = 0, min_x = x + h, max_x = x - h, min_y = y + h, max_y = y - h;
-  for (int yy = std::max(0, y - h); yy <= std::min(points.rows - 1, y + h); ++yy) {
-    const int sy = row_map.empty() ? yy : row_map.at<int>(yy);
-    const float* row = points.ptr<float>(yy);
-    for (int xx = std::max(0, x - h); xx <= std::min(points.cols - 1, x + h); ++xx) {
-      const float* p = row + 3 * xx;
-      const double r2 = static_cast<double>(p[0]) * p[0] + static_cast<double>(p[1]) * p[1] +
-                        static_cast<double>(p[2]) * p[2];
-      if (!(r2 > 0.0) || !std::isfinite(r2)) continue;
-      const int sx = col_map.empty() ? xx : col_map.at<int>(xx);
-      double v[3] = {(sx - K.cx) / K.fx, (sy - K.cy) / K.fy, 1.0};
-      const double inv = 1.0 / std::sqrt(v[0] * v[0] + v[1] * v[1] + 1.0);
-      for (double& c : v) c *= inv;
-      const double inv_r = 1.0 / std::sqrt(r2);
-      M[0] += v[0] * v[0];
-      M[1] += v[0] * v[1];
-      M[2] += v[0] * v[2];
-      M[3] += v[1] * v[1];
-      M[4] += v[1] * v[2];
-      M[5] += v[2] * v[2];
-      for (int c = 0; c < 3; ++c) b[c] += v[c] * inv_r;
-      ++count;
-      min_x = std::min(min_x, xx);
-      max_x = std::max(max_x, xx);
-      min_y = std::min(min_y, yy);
-      max_y = std::max(max_y, yy);
-    }
-  }
-  if (count < 3 || min_x == max_x || min_y == max_y) return false;
-  // n = M^-1 b by the adjugate (M symmetric)
-  const double a00 = M[3] * M[5] - M[4] * M[4], a01 = M[2] * M[4] - M[1] * M[5],
-               a02 = M[1] * M[4] - M[2] * M[3], a11 = M[0] * M[5] - M[2] * M[2],
-               a12 = M[1] * M[2] - M[0] * M[4], a22 = M[0] * M[3] - M[1] * M[1];
-  const double nx = a00 * b[0] + a01 * b[1] + a02 * b[2];
-  const double ny = a01 * b[0] + a11 * b[1] + a12 * b[2];
-  const double nz = a02 * b[0] + a12 * b[1] + a22 * b[2];
-  const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-  if (!(len > 0.0) || !std::isfinite(len)) return false;
-  // toward the camera (the determinant's sign is absorbed here)
-  const float* c = points.ptr<float>(y) + 3 * x;
-  double s = 1.0 / len;
-  if (std::isfinite(c[2]) && nx * c[0] + ny * c[1] + nz * c[2] > 0.0) s = -s;
-  if (!std::isfinite(c[2])) {
-    const int sx = col_map.empty() ? x : col_map.at<int>(x);
-    const int sy = row_map.empty() ? y : row_map.at<int>(y);
-    if (nx * (sx - K.cx) / K.fx + ny * (sy - K.cy) / K.fy + nz > 0.0) s = -s;
-  }
-  n[0] = static_cast<float>(nx * s);
-  n[1] = static_cast<float>(ny * s);
-  n[2] = static_cast<float>(nz * s);
-  return true;
 }
 
 }  // namespace rgbd_lane_detector

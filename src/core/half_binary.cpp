@@ -11,12 +11,13 @@
 
 namespace rgbd_lane_detector {
 namespace {
-// Half-binary of one row of interleaved pixels; ri/gi/bi are channel indices, cn the stride.
-template <int cn, int ri, int gi, int bi>
+// Half-binary of the columns [from, width) of one row of format F (layout: pixelLayout()).
+template <PixelFormat F>
 void convertRow(const uint8_t* src, uint8_t* dst, int from, int width, int tau_c) {
-  src += cn * from;
-  for (int x = from; x < width; ++x, src += cn) {
-    const int g = greyValue(src[ri], src[gi], src[bi]);
+  constexpr PixelLayout L = pixelLayout(F);
+  src += L.channels * from;
+  for (int x = from; x < width; ++x, src += L.channels) {
+    const int g = L.channels == 1 ? src[0] : greyValue(src[L.r], src[L.g], src[L.b]);
     dst[x] = g >= tau_c ? static_cast<uint8_t>(g) : 0;
   }
 }
@@ -71,20 +72,27 @@ int convertRowT(const uint8_t* src, uint8_t* dst, int width, int tau) {
   return x;
 }
 
+// One row of format F, its layout from pixelLayout() (green is channel 1 in every colour format).
+template <PixelFormat F>
+int convertFormat(const uint8_t* s, uint8_t* d, int w, int tau) {
+  constexpr PixelLayout L = pixelLayout(F);
+  static_assert(L.channels == 1 || L.g == 1, "convertRowT reads green at channel 1");
+  return convertRowT<L.channels, L.r, L.b>(s, d, w, tau);
+}
 int convertBgr(const uint8_t* s, uint8_t* d, int w, int tau) {
-  return convertRowT<3, 2, 0>(s, d, w, tau);
+  return convertFormat<PixelFormat::kBgr8>(s, d, w, tau);
 }
 int convertRgb(const uint8_t* s, uint8_t* d, int w, int tau) {
-  return convertRowT<3, 0, 2>(s, d, w, tau);
+  return convertFormat<PixelFormat::kRgb8>(s, d, w, tau);
 }
 int convertBgra(const uint8_t* s, uint8_t* d, int w, int tau) {
-  return convertRowT<4, 2, 0>(s, d, w, tau);
+  return convertFormat<PixelFormat::kBgra8>(s, d, w, tau);
 }
 int convertRgba(const uint8_t* s, uint8_t* d, int w, int tau) {
-  return convertRowT<4, 0, 2>(s, d, w, tau);
+  return convertFormat<PixelFormat::kRgba8>(s, d, w, tau);
 }
 int convertMono(const uint8_t* s, uint8_t* d, int w, int tau) {
-  return convertRowT<1, 0, 0>(s, d, w, tau);
+  return convertFormat<PixelFormat::kMono8>(s, d, w, tau);
 }
 
 RLD_KERNELS_END
@@ -125,22 +133,24 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
   for (int y = r0; y < r1; ++y) {
     const uint8_t* src = colour.ptr<uint8_t>(y);
     uint8_t* dst = out.ptr<uint8_t>(y);
+    // the vector kernel of the format (one per format: their layouts are compile-time), then
+    // the rest of the row
+    using F = PixelFormat;
     switch (format) {
       case PixelFormat::kBgr8:
-        convertRow<3, 2, 1, 0>(src, dst, RLD_DISPATCH(convertBgr)(src, dst, w, tau), w, tau);
+        convertRow<F::kBgr8>(src, dst, RLD_DISPATCH(convertBgr)(src, dst, w, tau), w, tau);
         break;
       case PixelFormat::kRgb8:
-        convertRow<3, 0, 1, 2>(src, dst, RLD_DISPATCH(convertRgb)(src, dst, w, tau), w, tau);
+        convertRow<F::kRgb8>(src, dst, RLD_DISPATCH(convertRgb)(src, dst, w, tau), w, tau);
         break;
       case PixelFormat::kBgra8:
-        convertRow<4, 2, 1, 0>(src, dst, RLD_DISPATCH(convertBgra)(src, dst, w, tau), w, tau);
+        convertRow<F::kBgra8>(src, dst, RLD_DISPATCH(convertBgra)(src, dst, w, tau), w, tau);
         break;
       case PixelFormat::kRgba8:
-        convertRow<4, 0, 1, 2>(src, dst, RLD_DISPATCH(convertRgba)(src, dst, w, tau), w, tau);
+        convertRow<F::kRgba8>(src, dst, RLD_DISPATCH(convertRgba)(src, dst, w, tau), w, tau);
         break;
       case PixelFormat::kMono8:
-        for (int x = RLD_DISPATCH(convertMono)(src, dst, w, tau); x < w; ++x)
-          dst[x] = src[x] >= tau ? src[x] : 0;
+        convertRow<F::kMono8>(src, dst, RLD_DISPATCH(convertMono)(src, dst, w, tau), w, tau);
         break;
     }
   }

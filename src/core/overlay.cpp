@@ -18,8 +18,8 @@ const cv::Scalar kRoiColour(200, 200, 200);
 
 bool project(const Intrinsics& K, const Eigen::Vector3d& p, cv::Point& out) {
   if (!(p.z() > 0.1)) return false;
-  out = cv::Point(static_cast<int>(std::lround(K.fx * p.x() / p.z() + K.cx)),
-                  static_cast<int>(std::lround(K.fy * p.y() / p.z() + K.cy)));
+  const cv::Point2d q = K.project(p);
+  out = cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
   return true;
 }
 
@@ -71,23 +71,16 @@ void drawPlaneGrid(cv::Mat& out, const Intrinsics& K, const PlaneEstimate& plane
 
 void drawOverlay(const cv::Mat& colour, PixelFormat format, const Intrinsics& K,
                  const Result& result, const Params& params, cv::Mat& out) {
-  switch (format) {
-    case PixelFormat::kBgr8:
-      colour.copyTo(out);
-      break;
-    case PixelFormat::kRgb8:
-      cv::cvtColor(colour, out, cv::COLOR_RGB2BGR);
-      break;
-    case PixelFormat::kBgra8:
-      cv::cvtColor(colour, out, cv::COLOR_BGRA2BGR);
-      break;
-    case PixelFormat::kRgba8:
-      cv::cvtColor(colour, out, cv::COLOR_RGBA2BGR);
-      break;
-    case PixelFormat::kMono8:
-      cv::cvtColor(colour, out, cv::COLOR_GRAY2BGR);
-      break;
-  }
+  // to bgr8 from the format's layout (types.h)
+  const PixelLayout layout = pixelLayout(format);
+  if (layout.channels == 3 && layout.b == 0)
+    colour.copyTo(out);
+  else if (layout.channels != 0)
+    cv::cvtColor(colour, out,
+                 layout.channels == 1   ? cv::COLOR_GRAY2BGR
+                 : layout.channels == 3 ? cv::COLOR_RGB2BGR
+                 : layout.b == 0        ? cv::COLOR_BGRA2BGR
+                                        : cv::COLOR_RGBA2BGR);
   if (out.empty()) return;
   if (result.status != Status::kOk) {
     cv::putText(out, statusMessage(result.status), cv::Point(10, 20), cv::FONT_HERSHEY_SIMPLEX,

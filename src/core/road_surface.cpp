@@ -7,6 +7,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "rgbd_lane_detector/geometry.h"
+
 namespace rgbd_lane_detector {
 namespace {
 
@@ -351,8 +353,6 @@ int fillFromRoadPlane(cv::Mat& points, const cv::Range& rows, const Intrinsics& 
   if (!plane.valid || points.type() != CV_32FC3) return 0;
   const int r0 = std::max(rows.start, 0);
   const int r1 = std::min(rows.end, points.rows);
-  const Eigen::Vector3d& n = plane.normal;
-  const double d = plane.distance;
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
   const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
   int count = 0;
@@ -363,17 +363,16 @@ int fillFromRoadPlane(cv::Mat& points, const cv::Range& rows, const Intrinsics& 
     if (y < r0 || y == r1 - 1) continue;  // no depth at all, or nothing missing below it
     const cv::Vec3f& q = points.at<cv::Vec3f>(y, x);
     const double z = q[2];
-    if (!(std::fabs(n.x() * q[0] + n.y() * q[1] + n.z() * q[2] + d) <= band0 + growth * z * z))
-      continue;  // not road: nothing to extend
-    const double rx = ((cm ? cm[x] : x) - K.cx) / K.fx;
+    const double h = planeDistance(plane, Eigen::Vector3f(q[0], q[1], q[2]));
+    if (!(std::fabs(h) <= band0 + growth * z * z)) continue;  // not road: nothing to extend
     for (int v = y + 1; v < r1; ++v) {
-      const double ry = ((rm ? rm[v] : v) - K.cy) / K.fy;
-      const double den = n.x() * rx + n.y() * ry + n.z();
-      if (!(den < -1e-9)) continue;  // the ray misses the road plane
+      const Eigen::Vector3d ray = K.ray(cm ? cm[x] : x, rm ? rm[v] : v);
+      double t;
+      if (!rayPlaneDepth(plane, ray, t)) continue;  // the ray misses the road plane
       cv::Vec3f& p = points.at<cv::Vec3f>(v, x);
       if (!std::isnan(p[2])) continue;
-      const double t = -d / den;
-      p = cv::Vec3f(static_cast<float>(rx * t), static_cast<float>(ry * t), static_cast<float>(t));
+      p = cv::Vec3f(static_cast<float>(ray.x() * t), static_cast<float>(ray.y() * t),
+                    static_cast<float>(t));
       filled.at<uint8_t>(v, x) = 255;
       ++count;
     }

@@ -1,109 +1,26 @@
 // Boundary classification on rendered cross-sections of a road: paint, a rail head, a zebra
 // stripe, a kerb, a shadow's edge, a grass edge, a rail beside paint, an object above the road.
+// (Following lines row by row: test_line_follower.)
 #include <cmath>
-#include <functional>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/boundary_classifier.h"
-#include "rgbd_lane_detector/half_binary.h"
+#include "road_cross_section.h"
 
 namespace rgbd_lane_detector {
 namespace {
 
-constexpr int kW = 640, kH = 380;
-const Intrinsics kK{266.37, 266.37, 320.0, 190.0};
-constexpr double kHeight = 1.5;
+using namespace test;  // NOLINT: the rendered road
 
-// A level road seen from kHeight, camera looking along the road (no pitch), with boxes running
-// along the road (kerbs, sidewalks, a truck's top): the surface's colour (RGB) depends on the
-// lateral position x (right) and the distance z.
-struct Box {
-  double x0, x1, height;  ///< lateral extent (m) and height above the road
-};
-
-struct CrossSection {
-  std::function<cv::Vec3b(double x, double z)> colour = [](double, double) {
-    return cv::Vec3b(90, 90, 90);
-  };
-  std::vector<Box> boxes;
-
-  // the nearest surface along a pixel's ray (z = 1 units): road, box tops and box sides
-  double hit(double rx, double ry) const {
-    double best = ry > 1e-6 ? kHeight / ry : INFINITY;
-    for (const Box& b : boxes) {
-      const double top = kHeight - b.height;  // y of the top below the camera
-      if (ry > 1e-6) {
-        const double z = top / ry;
-        if (rx * z >= b.x0 && rx * z <= b.x1) best = std::min(best, z);
-      }
-      for (double x : {b.x0, b.x1}) {
-        if (std::fabs(rx) < 1e-9 || !std::isfinite(x)) continue;
-        const double z = x / rx;
-        if (z > 0 && ry * z >= top && ry * z <= kHeight) best = std::min(best, z);
-      }
-    }
-    return best;
-  }
-
-  void render(cv::Mat& bgr, cv::Mat& points) const {
-    bgr.create(kH, kW, CV_8UC3);
-    bgr.setTo(cv::Scalar(200, 180, 160));  // sky
-    points.create(kH, kW, CV_32FC3);
-    points.setTo(cv::Scalar::all(std::nanf("")));
-    for (int v = 0; v < kH; ++v) {
-      for (int u = 0; u < kW; ++u) {
-        const double rx = (u - kK.cx) / kK.fx, ry = (v - kK.cy) / kK.fy;
-        const double z = hit(rx, ry);
-        if (!(z <= 80.0)) continue;
-        const cv::Vec3b rgb = colour(rx * z, z);
-        bgr.at<cv::Vec3b>(v, u) = cv::Vec3b(rgb[2], rgb[1], rgb[0]);
-        points.at<cv::Vec3f>(v, u) =
-            cv::Vec3f(static_cast<float>(rx * z), static_cast<float>(ry * z), static_cast<float>(z));
-      }
-    }
-  }
-};
-
-PlaneEstimate level() {
-  PlaneEstimate p;
-  p.valid = true;
-  p.normal = Eigen::Vector3d(0, -1, 0);
-  p.distance = kHeight;
-  return p;
-}
-
-// Pixels of a line at lateral x on the road (height h), 4-25 m ahead, near to far.
-std::vector<cv::Point2f> linePixels(double x, double h = 0.0) {
-  std::vector<cv::Point2f> px;
-  for (double z = 4.0; z <= 25.0; z *= 1.08)
-    px.emplace_back(static_cast<float>(kK.fx * x / z + kK.cx),
-                    static_cast<float>(kK.fy * (kHeight - h) / z + kK.cy));
-  return px;
-}
-
-cv::Vec3b grey(int g) { return cv::Vec3b(g, g, g); }
-
-struct Fixture {
-  cv::Mat bgr, grey, points;
-  PlaneEstimate plane = level();
-  ClassifierInput in;
+struct Fixture : RenderedRoad {
   BoundaryClassifier classifier;
   BoundaryEvidence ev;
 
   void classify(const CrossSection& cs, std::vector<cv::Point2f> px, bool left,
                 const Params& p = Params::improved()) {
-    cs.render(bgr, points);
-    halfBinary(bgr, PixelFormat::kBgr8, 0, cv::Range(0, bgr.rows), grey);  // threshold 0: grey
-    in.colour = &bgr;
-    in.format = PixelFormat::kBgr8;
-    in.grey = &grey;
-    in.grey_rows = cv::Range(0, bgr.rows);
-    in.K = kK;
-    in.points = &points;
-    in.plane = &plane;
-    in.frame = PlaneFrame::fromPlane(plane);
+    render(cs);
     pixels = std::move(px);
     classifier.classify(in, pixels, left, p, ev);
   }
@@ -265,99 +182,6 @@ TEST(BoundaryClassifier, NothingWithoutAPlane) {
   f.plane.valid = false;
   f.classify(cs, linePixels(-1.8), true);
   EXPECT_FALSE(f.ev.boundary);
-}
-
-// Lateral position (m, right) on the level road of an input pixel.
-double roadLateral(const cv::Point2f& c) {
-  const double z = kK.fy * kHeight / (c.y - kK.cy);
-  return (c.x - kK.cx) / kK.fx * z;
-}
-double roadForward(const cv::Point2f& c) { return kK.fy * kHeight / (c.y - kK.cy); }
-
-TEST(BoundaryClassifier, FollowLineCentresOnThePaintAndCrossesDashGaps) {
-  // dashes of 4 m every 12 m at x = -1.7; the "trace" covers the dash 12-16 m ahead, 6 cm off
-  // the paint's centre
-  CrossSection cs;
-  cs.colour = [](double x, double z) {
-    const bool dash = std::fmod(z, 12.0) < 4.0;
-    return dash && std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80);
-  };
-  Fixture f;
-  f.classify(cs, linePixels(-1.7), true);  // renders the scene, sets the frame views
-  std::vector<cv::Point2f> px;
-  for (double z = 12.0; z <= 16.0; z += 0.25)
-    px.emplace_back(static_cast<float>(kK.fx * -1.64 / z + kK.cx),
-                    static_cast<float>(kK.fy * kHeight / z + kK.cy));
-  std::vector<Eigen::Vector3f> pts;
-  const int rows = f.classifier.followLine(f.in, px, pts, Params::improved(), 10.0, 60.0);
-  ASSERT_GE(rows, 10);
-  ASSERT_EQ(px.size(), pts.size());
-  double nearest = 1e9, farthest = 0.0;
-  for (const auto& c : px) {
-    // on the paint's centre, not the trace (within 3 cm, or 0.6 px far away)
-    EXPECT_NEAR(roadLateral(c), -1.7, std::max(0.03, 0.6 * roadForward(c) / kK.fx)) << c;
-    nearest = std::min(nearest, roadForward(c));
-    farthest = std::max(farthest, roadForward(c));
-  }
-  EXPECT_LT(nearest, 4.0);    // across the 8 m gap down to the dash at 0-4 m
-  EXPECT_GT(farthest, 24.0);  // and up to the dash at 24-28 m
-  for (size_t i = 1; i < px.size(); ++i) EXPECT_LT(px[i].y, px[i - 1].y);  // near to far
-}
-
-TEST(BoundaryClassifier, ADoubleLineIsOneBoundaryAtItsCentre) {
-  // two 0.12 m yellow lines 0.13 m apart centred at x = -1.8 (centres at -1.925 and -1.675)
-  CrossSection cs;
-  cs.colour = [](double x, double) {
-    return std::fabs(x + 1.925) < 0.06 || std::fabs(x + 1.675) < 0.06 ? cv::Vec3b(204, 158, 36)
-                                                                        : grey(90);
-  };
-  Fixture f;
-  f.classify(cs, linePixels(-1.675), true);  // traced on the inner line
-  std::vector<cv::Point2f> px = linePixels(-1.675);
-  std::vector<Eigen::Vector3f> pts(px.size());
-  ASSERT_TRUE(f.classifier.centreDoubleLine(f.in, px, pts, Params::improved()));
-  for (const auto& c : px) EXPECT_NEAR(roadLateral(c), -1.8, 0.03) << c;
-  EXPECT_TRUE(pts.front().allFinite());
-  // a single line stays where it is
-  CrossSection single;
-  single.colour = [](double x, double) { return std::fabs(x + 1.8) < 0.075 ? grey(220) : grey(90); };
-  Fixture g;
-  g.classify(single, linePixels(-1.8), true);
-  std::vector<cv::Point2f> one = linePixels(-1.8);
-  EXPECT_FALSE(g.classifier.centreDoubleLine(g.in, one, pts, Params::improved()));
-  for (const auto& c : one) EXPECT_NEAR(roadLateral(c), -1.8, 1e-3) << c;
-}
-
-TEST(BoundaryClassifier, FollowEdgeFindsWhereTheRoadEnds) {
-  // a kerb at x = 1.8 whose top (light stones) was traced 10 cm beyond the edge, 8-12 m ahead;
-  // leaves scattered in the gutter 0.3 m inside it are no edge
-  CrossSection cs;
-  cs.boxes = {{1.8, INFINITY, 0.12}};
-  cs.colour = [](double x, double z) {
-    if (x > 1.8 - 1e-6 && x < 1.95) return grey(200);  // its face and top
-    if (x > 1.8) return grey(150);
-    if (x > 1.45 && x < 1.5 && std::fmod(z, 1.0) < 0.2) return cv::Vec3b(160, 90, 30);  // leaf
-    return grey(80);
-  };
-  Fixture f;
-  f.classify(cs, linePixels(1.9, 0.12), false);
-  ASSERT_TRUE(f.ev.boundary);
-  ASSERT_EQ(f.ev.kind, BoundaryKind::kRoadEdge);
-  std::vector<cv::Point2f> px;
-  for (double z = 8.0; z <= 12.0; z += 0.25)
-    px.emplace_back(static_cast<float>(kK.fx * 1.9 / z + kK.cx),
-                    static_cast<float>(kK.fy * (kHeight - 0.12) / z + kK.cy));
-  std::vector<Eigen::Vector3f> pts;
-  const int rows = f.classifier.followEdge(f.in, px, pts, false, Params::improved(), 2.0, 60.0);
-  ASSERT_GE(rows, 10);
-  double nearest = 1e9, farthest = 0.0;
-  for (const auto& c : px) {
-    EXPECT_NEAR(roadLateral(c), 1.8, 0.06) << c;  // the bottom of the kerb's face
-    nearest = std::min(nearest, roadForward(c));
-    farthest = std::max(farthest, roadForward(c));
-  }
-  EXPECT_LT(nearest, 6.0);   // followed toward the car
-  EXPECT_GT(farthest, 14.0);  // and beyond the trace
 }
 
 }  // namespace

@@ -88,6 +88,11 @@ TEST(Plane, RayMeetsTheRoadBelowTheHorizonOnly) {
   EXPECT_FALSE(rld::rayPlaneDepth(road, K.ray(320.0, 100.0), z));
   EXPECT_DOUBLE_EQ(z, 15.0);
   EXPECT_EQ(rld::roadPixelsPerMetre(K, road, K.ray(320.0, 100.0)), 0.0);
+  // 0.3 m across the road 15 m ahead: 500 * 0.3 / 15 = 10 px, either way across; none above
+  // the horizon
+  EXPECT_NEAR(rld::roadPixelsAcross(K, road, K.ray(320.0, 238.0), 0.3), 10.0, 1e-12);
+  EXPECT_NEAR(rld::roadPixelsAcross(K, road, K.ray(100.0, 238.0), -0.3), -10.0, 1e-12);
+  EXPECT_EQ(rld::roadPixelsAcross(K, road, K.ray(320.0, 100.0), 0.3), 0.0);
   // pitched down by 10 deg the horizon row moves up by fy tan(10 deg)
   const double a = 10.0 * M_PI / 180.0;
   const rld::PlaneEstimate pitched = pitchedRoad(1.5, a);

@@ -1,0 +1,85 @@
+/**
+ * @file classifier_input.h
+ * @brief The frame the boundary classifier reads (views on the detector's images, the road
+ * plane) and what it reads of it: the road under a pixel, the height of the depth above the road,
+ * a line's heading on the road, one image row's grey values and colours.
+ */
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/geometry.h"
+#include "rgbd_lane_detector/types.h"
+
+namespace rgbd_lane_detector {
+
+/// The frame a classifier reads (views; nothing is copied).
+struct ClassifierInput {
+  const cv::Mat* colour = nullptr;  ///< input colour image
+  PixelFormat format = PixelFormat::kBgr8;
+  /// CV_8UC1 grey of the input image (greyValue() weights), valid in the rows @c grey_rows; the
+  /// classifier measures nothing on other rows
+  const cv::Mat* grey = nullptr;
+  cv::Range grey_rows;
+  Intrinsics K;                     ///< of the input image
+  const cv::Mat* points = nullptr;  ///< CV_32FC3 organised points at the processing scale
+  /// optional CV_8UC1 of the points' size: non-zero where a point is the road plane extended
+  /// over missing depth, not a measurement (no height is read there)
+  const cv::Mat* filled = nullptr;
+  double scale_x = 1.0, scale_y = 1.0;   ///< processing / input resolution
+  PlaneEstimate const* plane = nullptr;  ///< road plane (valid)
+  RoadFrame frame;  ///< its road frame (REP-103: x forward, y left)
+
+  /// The road under input pixel (u, v): its forward distance @p f in the road frame and the
+  /// pixels per metre @p ppm across the road there; false where the pixel's ray does not meet it.
+  bool roadAt(double u, double v, double& f, double& ppm) const;
+  /// Height above the road of the depth at an input pixel: its own depth, else the nearest in
+  /// its column within a few rows (sparse LiDAR rows); NaN without depth or on filled points.
+  float heightAt(int u, int v) const;
+  /// Depth point (optical frame) at an input pixel, NaN without depth.
+  Eigen::Vector3f pointAt(int u, int v) const;
+  /// cos of the heading on the road of a line of input pixels (near to far), from its first and
+  /// last points on the road: at least 0.5, and 1 when they are less than 0.5 m apart.
+  double cosHeading(const std::vector<cv::Point2f>& pixels) const;
+};
+
+/// One row of the input image: its grey values and its colours, read in place.
+class ImageRow {
+ public:
+  /// Row @p v of @p in; valid() is false outside the grey image's rows.
+  ImageRow(const ClassifierInput& in, int v) {
+    if (v < in.grey_rows.start || v >= in.grey_rows.end || v < 0 || v >= in.grey->rows) return;
+    grey_ = in.grey->ptr<uint8_t>(v);
+    colour_ = in.colour->ptr<uint8_t>(v);
+    cn_ = in.colour->channels();
+    const PixelLayout layout = pixelLayout(in.format);
+    r_ = layout.r, g_ = layout.g, b_ = layout.b;
+  }
+  bool valid() const { return grey_ != nullptr; }
+  /// Grey value (BT.601 luma) at column @p u.
+  float grey(int u) const { return grey_[u]; }
+  /// Colour at column @p u (0-255).
+  void rgb(int u, float& R, float& G, float& B) const {
+    const uint8_t* px = colour_ + static_cast<size_t>(u) * cn_;
+    R = px[r_], G = px[g_], B = px[b_];
+  }
+  /// rg chromaticity at column @p u.
+  void chroma(int u, float& r, float& g) const {
+    float R, G, B;
+    rgb(u, R, G, B);
+    const float sum = R + G + B + 1e-3f;
+    r = R / sum;
+    g = G / sum;
+  }
+
+ private:
+  const uint8_t* grey_ = nullptr;
+  const uint8_t* colour_ = nullptr;
+  int cn_ = 1, r_ = 0, g_ = 0, b_ = 0;
+};
+
+}  // namespace rgbd_lane_detector

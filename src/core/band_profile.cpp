@@ -1,0 +1,231 @@
+#include "rgbd_lane_detector/band_profile.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rgbd_lane_detector/geometry.h"
+#include "row_statistics.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr double kProfileHalfWidth = 0.6;  // m each side of the line
+constexpr double kPeakSearch = 0.1;        // m: the band's peak is sought this close to the trace
+constexpr double kBandReach = 0.3;         // m: bands this close to the trace belong to it
+constexpr double kEdgeBeyond = 0.3;        // m: an edge is sought up to this far beyond the line
+constexpr double kEdgeRun = 0.12;          // m of mostly not-road in a row that make the edge
+constexpr double kEdgeFill = 0.75;         // share of kEdgeRun that is not road
+
+}  // namespace
+
+BandProfile::BandProfile() {
+  side_.reserve(2 * kMaxProfileHalf + 1);
+}
+
+void BandProfile::addBand(int a, int b, float base, bool open, int W) {
+  const float* P = profile_.data() + W;
+  int peak = a;
+  for (int j = a; j <= b; ++j)
+    if (P[j] > P[peak]) peak = j;
+  Band band;
+  band.peak = P[peak];
+  band.open = open;
+  const float half = base + 0.5f * (band.peak - base);
+  int l = peak, r = peak;
+  while (l - 1 >= a && P[l - 1] >= half) --l;
+  while (r + 1 <= b && P[r + 1] >= half) ++r;
+  band.lo = l - 1 >= -W && P[l - 1] < half ? l - (P[l] - half) / (P[l] - P[l - 1]) : l - 0.5;
+  band.hi = r + 1 <= W && P[r + 1] < half ? r + (P[r] - half) / (P[r] - P[r + 1]) : r + 0.5;
+  bands_.push_back(band);
+}
+
+void BandProfile::findBands(int W, float base, float low) {
+  // Runs of the profile above `low`, split at dips deeper than half the contrast of the lower
+  // of the peaks either side (a rail head next to a painted line), each band measured at half
+  // its own peak.
+  bands_.clear();
+  const float* P = profile_.data() + W;  // P[k], k in [-W, W]
+  int k = -W;
+  while (k <= W) {
+    if (P[k] < low) {
+      ++k;
+      continue;
+    }
+    int end = k;
+    while (end + 1 <= W && P[end + 1] >= low) ++end;
+    int seg = k;
+    for (int j = k + 1; j < end; ++j) {
+      if (!(P[j] <= P[j - 1] && P[j] < P[j + 1])) continue;  // local minima only
+      float before = P[seg], after = P[j];
+      for (int i = seg; i <= j; ++i) before = std::max(before, P[i]);
+      for (int i = j; i <= end; ++i) after = std::max(after, P[i]);
+      const float m = std::min(before, after);
+      if (m - P[j] > 0.5f * (m - base)) {
+        addBand(seg, j - 1, base, seg == -W, W);
+        seg = j + 1;
+      }
+    }
+    addBand(seg, end, base, seg == -W || end == W, W);
+    k = end + 1;
+  }
+}
+
+bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bool left,
+                             const Params& p, double cos_heading, RowMeasure& m) {
+  const cv::Mat& colour = *in.colour;
+  const Intrinsics& K = in.K;
+  m = RowMeasure();
+  m.v = static_cast<int>(std::lround(c.y));
+  if (m.v < 0 || m.v >= colour.rows) return false;
+  // the road's depth at this pixel (ray z = 1)
+  if (!rayPlaneDepth(*in.plane, K.ray(c.x, m.v), m.depth)) return false;
+  m.ppm = K.fx / m.depth;  // pixels per metre across the road at this row
+  if (m.ppm < kMinPixelsPerMetre) return false;
+  m.u0 = static_cast<int>(std::lround(c.x));
+  m.W = std::min(kMaxProfileHalf,
+                 std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * m.ppm))));
+  if (m.u0 - m.W < 0 || m.u0 + m.W >= colour.cols) return false;
+  const ImageRow row(in, m.v);
+  if (!row.valid()) return false;
+  profile_.resize(2 * m.W + 1);
+  for (int k = -m.W; k <= m.W; ++k) profile_[k + m.W] = row.grey(m.u0 + k);
+  // backgrounds of both sides, outward from the trace
+  m.outer_dir = left ? -1 : 1;  // image direction away from the vehicle
+  const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
+  const int s1 = std::max(s0 + 1, static_cast<int>(std::floor(kSideFar * m.ppm)));
+  for (int s = 0; s < 2; ++s) {
+    const int dir = s == 1 ? m.outer_dir : -m.outer_dir;
+    side_.clear();
+    double sr = 0, sg = 0;
+    for (int k = s0; k <= s1 && k <= m.W; ++k) {
+      float r, g;
+      row.chroma(m.u0 + dir * k, r, g);
+      side_.push_back(profile_[m.W + dir * k]);
+      sr += r;
+      sg += g;
+    }
+    if (side_.empty()) return false;
+    m.chroma[s][0] = static_cast<float>(sr / side_.size());
+    m.chroma[s][1] = static_cast<float>(sg / side_.size());
+    m.bg[s] = greyMedian(side_);
+  }
+  m.top = std::max(m.bg[0], m.bg[1]);
+  m.contrast = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(m.top, 1.0f));
+  // the brightest pixel near the trace
+  const int search = std::max(2, static_cast<int>(std::lround(kPeakSearch * m.ppm)));
+  m.peak = profile_[m.W];
+  for (int k = -search; k <= search; ++k) m.peak = std::max(m.peak, profile_[k + m.W]);
+  // bright bands near the trace, by width where the pixels resolve them: the painted one
+  // nearest the trace, else a narrow one (a rail head), else a wide one
+  if (m.ppm >= kWidthPixelsPerMetre) {
+    findBands(m.W, m.top, m.top + m.contrast);
+    const double reach = kBandReach * m.ppm;
+    for (const Band& b : bands_) {
+      const double centre = 0.5 * (b.lo + b.hi);
+      if (b.open || std::fabs(centre) > reach) continue;
+      const double w = (b.hi - b.lo) / m.ppm * cos_heading;
+      const Band** slot = w < p.paint_width_min   ? &m.narrow
+                          : w > p.paint_width_max ? &m.wide
+                                                  : &m.paint;
+      if (*slot == nullptr || std::fabs(centre) < std::fabs(0.5 * ((*slot)->lo + (*slot)->hi)))
+        *slot = &b;
+    }
+  }
+  return true;
+}
+
+bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int half, double max_px,
+                             const Params& p, double& centre) {
+  const int margin = std::max(3, half);
+  const int u0 = static_cast<int>(std::lround(u));
+  const int W = half + margin;
+  if (u0 - W < 0 || u0 + W >= in.colour->cols) return false;
+  const ImageRow row(in, v);
+  if (!row.valid()) return false;
+  profile_.resize(2 * W + 1);
+  for (int k = -W; k <= W; ++k) profile_[k + W] = row.grey(u0 + k);
+  // the road beside the window, and the brightest pixel in it
+  side_.clear();
+  for (int k = -W; k <= W; ++k)
+    if (std::abs(k) > half) side_.push_back(profile_[k + W]);
+  const float bg = greyMedian(side_);
+  int kp = -half;
+  for (int k = -half; k <= half; ++k)
+    if (profile_[k + W] > profile_[kp + W]) kp = k;
+  const float peak = profile_[kp + W];
+  if (peak - bg < std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(bg, 1.0f)))
+    return false;
+  const float level = bg + 0.5f * (peak - bg);
+  int l = kp, r = kp;
+  while (l - 1 >= -W && profile_[l - 1 + W] >= level) --l;
+  while (r + 1 <= W && profile_[r + 1 + W] >= level) ++r;
+  if (r - l + 1 > max_px || l == -W || r == W) return false;
+  double sw = 0.0, sx = 0.0;
+  for (int k = l; k <= r; ++k) {
+    const double w = profile_[k + W] - level + 1e-3;
+    sw += w;
+    sx += w * k;
+  }
+  centre = u0 + sx / sw;
+  return true;
+}
+
+bool BandProfile::edgeInRow(const ClassifierInput& in, int v, double u, double ppm, bool left,
+                            const Params& p, double inside, double& edge) {
+  if (ppm < kMinPixelsPerMetre) return false;
+  const int out_dir = left ? -1 : 1;
+  const int u0 = static_cast<int>(std::lround(u));
+  const int start = static_cast<int>(std::lround(inside * ppm));
+  const int ref0 = static_cast<int>(std::lround(kEdgeReference[0] * ppm));
+  const int ref1 = static_cast<int>(std::lround(kEdgeReference[1] * ppm));
+  const int beyond = static_cast<int>(std::lround(kEdgeBeyond * ppm));
+  const int run = std::max(3, static_cast<int>(std::lround(kEdgeRun * ppm)));
+  const int far_end = beyond + run + 3;
+  if (u0 - out_dir * ref1 < 0 || u0 - out_dir * ref1 >= in.colour->cols ||
+      u0 + out_dir * far_end < 0 || u0 + out_dir * far_end >= in.colour->cols)
+    return false;
+  const ImageRow row(in, v);
+  if (!row.valid()) return false;
+  // the road well inside the line: its grey and colour
+  side_.clear();
+  double sr = 0.0, sg = 0.0;
+  for (int k = ref0; k <= ref1; ++k) {
+    float r, g;
+    row.chroma(u0 - out_dir * k, r, g);
+    side_.push_back(row.grey(u0 - out_dir * k));
+    sr += r;
+    sg += g;
+  }
+  const float road = greyMedian(side_);
+  const float road_r = static_cast<float>(sr / side_.size()),
+              road_g = static_cast<float>(sg / side_.size());
+  const float brighter =
+      std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(road, 1.0f));
+  // outward from well inside the line: the first window of kEdgeRun that is mostly not road
+  // (a kerb face, a pavement, grass; a gutter's scattered leaves are not enough)
+  const float chroma2 = static_cast<float>(p.edge_chroma * p.edge_chroma);
+  other_.clear();
+  for (int k = -start; k <= beyond + run; ++k) {
+    const int x = u0 + out_dir * k;
+    bool other = row.grey(x) - road >= brighter;
+    if (!other) {
+      float r, g;
+      row.chroma(x, r, g);
+      other = (r - road_r) * (r - road_r) + (g - road_g) * (g - road_g) >= chroma2;
+    }
+    other_.push_back(other);
+  }
+  const int need = static_cast<int>(std::ceil(kEdgeFill * run));
+  int count = 0;
+  for (int j = 0; j < run; ++j) count += other_[j];
+  for (int j = 0; j + run <= static_cast<int>(other_.size()) && j - start <= beyond; ++j) {
+    if (j > 0) count += other_[j + run - 1] - other_[j - 1];
+    if (count >= need && other_[j]) {
+      edge = u0 + out_dir * (j - start - 0.5);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,195 @@
+#include "rgbd_lane_detector/line_follower.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rgbd_lane_detector/geometry.h"
+#include "row_statistics.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr double kFollowReach = 0.15;   // m: a followed row's band is sought this close
+constexpr double kFollowSpacing = 0.1;  // m of road between followed rows at least
+constexpr double kFollowFit = 4.0;  // m of road behind the last row found that make the line ahead
+constexpr double kDoublePitch = 0.27;  // m between the two lines of a double line, expected
+constexpr double kDoubleReach = 0.1;   // m: the second line is sought this far around it
+constexpr double kDoubleMin = 0.17;    // m: a second line this near ...
+constexpr double kDoubleMax = 0.4;     // ... to this far makes a double line
+constexpr double kDoubleShare = 0.6;   // share of the measured rows that must show it
+
+}  // namespace
+
+LineFollower::LineFollower() {
+  // the per-line buffers at their largest, so that no frame grows them
+  followed_.reserve(kReservedPixels);
+  followed_near_.reserve(kReservedPixels);
+  follow_f_.reserve(kReservedPixels);
+}
+
+template <typename FindInRow>
+int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                             std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
+                             FindInRow&& find) {
+  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid()) return 0;
+  // the trace by row, near (bottom) to far (top)
+  int v_near = 0, v_far = in.colour->rows;
+  for (const auto& c : pixels) {
+    v_near = std::max(v_near, static_cast<int>(std::lround(c.y)));
+    v_far = std::min(v_far, static_cast<int>(std::lround(c.y)));
+  }
+  auto traceColumn = [&](double v) {  // the trace polyline's column at row v (rows decrease)
+    for (size_t i = 1; i < pixels.size(); ++i) {
+      const cv::Point2f& a = pixels[i - 1];
+      const cv::Point2f& b = pixels[i];
+      if ((v <= a.y && v >= b.y) || (v >= a.y && v <= b.y)) {
+        const double t = std::fabs(b.y - a.y) > 1e-6 ? (v - a.y) / (b.y - a.y) : 0.0;
+        return a.x + t * (b.x - a.x);
+      }
+    }
+    return static_cast<double>(v >= pixels.front().y ? pixels.front().x : pixels.back().x);
+  };
+  // the straight line u(v) through the trace: where nothing has been found beyond it yet
+  double ta = 0.0, tb = 0.0;
+  {
+    double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
+    for (const auto& c : pixels) s1 += 1, sv += c.y, su += c.x, svv += c.y * c.y, suv += c.x * c.y;
+    const double den = s1 * svv - sv * sv;
+    tb = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
+    ta = (su - tb * sv) / s1;
+  }
+  // forward distance of a road pixel, and pixels per metre across the road there
+  auto road = [&](double u, int v, double& f, double& ppm) {
+    return in.roadAt(u, v, f, ppm) && f > 0.0 && f <= max_range && ppm >= 1.5;
+  };
+  // One direction from the trace: rows v0, v0 + step, ...; inside the trace's rows the column
+  // comes from the trace, outside it from a line through the last rows found.
+  auto follow = [&](int v0, int step, std::vector<cv::Point2f>& out) {
+    out.clear();
+    follow_f_.clear();
+    double last_f = -1.0, measured_f = -1.0;
+    for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
+      const bool inside = v <= v_near && v >= v_far;
+      double u;
+      if (inside) {
+        u = traceColumn(v);
+      } else if (out.size() < 2) {
+        u = ta + tb * v;
+      } else {                          // least-squares line u(v) through the last rows found
+        size_t first = out.size() - 2;  // the rows within kFollowFit of the last one found
+        while (first > 0 && std::fabs(follow_f_[first - 1] - follow_f_.back()) <= kFollowFit)
+          --first;
+        double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
+        for (size_t i = first; i < out.size(); ++i) {
+          s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
+              suv += out[i].x * out[i].y;
+        }
+        const double den = s1 * svv - sv * sv;
+        const double b = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
+        u = (su - b * sv) / s1 + b * v;
+      }
+      double f = 0.0, ppm = 0.0;
+      if (!road(u, v, f, ppm)) {
+        if (!inside) break;
+        continue;
+      }
+      if (!inside && last_f >= 0.0 && std::fabs(f - last_f) > max_gap) break;  // past the line
+      // near the car rows are a few centimetres apart: one in kFollowSpacing of road is enough
+      if (measured_f >= 0.0 && std::fabs(f - measured_f) < kFollowSpacing) continue;
+      measured_f = f;
+      double centre;
+      if (find(v, u, ppm, inside || out.size() < 2, centre)) {
+        out.emplace_back(static_cast<float>(centre), static_cast<float>(v));
+        follow_f_.push_back(f);
+        last_f = f;
+      } else if (!inside && last_f < 0.0 && out.empty()) {
+        last_f = f;  // a gap from the trace's end on
+      }
+    }
+  };
+  follow(v_near, -1, followed_);          // from the trace's nearest row to the far end
+  follow(v_near + 1, 1, followed_near_);  // below it, toward the car
+  const int found = static_cast<int>(followed_.size() + followed_near_.size());
+  if (found < 3) return found;
+  pixels.clear();
+  points.clear();
+  for (auto it = followed_near_.rbegin(); it != followed_near_.rend(); ++it) pixels.push_back(*it);
+  pixels.insert(pixels.end(), followed_.begin(), followed_.end());
+  for (const auto& c : pixels)
+    points.push_back(
+        in.pointAt(static_cast<int>(std::lround(c.x)), static_cast<int>(std::lround(c.y))));
+  return found;
+}
+
+int LineFollower::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                             std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
+                             double max_range, double reach) {
+  return followRows(
+      in, pixels, points, max_gap, max_range,
+      [&](int v, double u, double ppm, bool from_trace, double& centre) {
+        // where the column comes from the trace (@p reach: wider for a predicted
+        // line), else from the rows found
+        const double r = from_trace ? reach : kFollowReach;
+        const int half = std::min(48, std::max(2, static_cast<int>(std::lround(r * ppm))));
+        return profile_.bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre);
+      });
+}
+
+bool LineFollower::centreDoubleLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                                    std::vector<Eigen::Vector3f>& points, const Params& p) {
+  if (in.plane == nullptr || !in.plane->valid ||
+      pixels.size() < static_cast<size_t>(BandProfile::kMinRows))
+    return false;
+  // pixels per metre across the road at an input pixel (0: not on the road)
+  auto ppmAt = [&](const cv::Point2f& c) {
+    return roadPixelsPerMetre(in.K, *in.plane, in.K.ray(c.x, c.y));
+  };
+  twin_[0].clear();
+  twin_[1].clear();
+  int measured = 0;
+  const size_t stride =
+      (pixels.size() + BandProfile::kMaxMeasuredRows - 1) / BandProfile::kMaxMeasuredRows;
+  for (size_t i = 0; i < pixels.size(); i += stride) {
+    const cv::Point2f& c = pixels[i];
+    const double ppm = ppmAt(c);
+    if (ppm < BandProfile::kWidthPixelsPerMetre) continue;  // the gap is not resolved
+    ++measured;
+    const int half = std::max(2, static_cast<int>(std::lround(kDoubleReach * ppm)));
+    const int v = static_cast<int>(std::lround(c.y));
+    for (int s = 0; s < 2; ++s) {
+      const double probe = c.x + (s == 0 ? -1.0 : 1.0) * kDoublePitch * ppm;
+      double twin;
+      if (!profile_.bandCentre(in, v, probe, half, p.paint_width_max * ppm + 2.0, p, twin))
+        continue;
+      const double offset = (twin - c.x) / ppm;
+      if (std::fabs(offset) >= kDoubleMin && std::fabs(offset) <= kDoubleMax)
+        twin_[s].push_back(static_cast<float>(offset));
+    }
+  }
+  if (measured < BandProfile::kMinRows) return false;
+  const int s = twin_[0].size() >= twin_[1].size() ? 0 : 1;
+  if (twin_[s].size() < kDoubleShare * measured || twin_[1 - s].size() > 0.2 * measured)
+    return false;
+  const float offset = median(twin_[s]);  // metres across the road to the second line
+  for (size_t i = 0; i < pixels.size(); ++i) {
+    pixels[i].x += static_cast<float>(0.5 * offset * ppmAt(pixels[i]));
+    points[i] = in.pointAt(static_cast<int>(std::lround(pixels[i].x)),
+                           static_cast<int>(std::lround(pixels[i].y)));
+  }
+  return true;
+}
+
+int LineFollower::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
+                             std::vector<Eigen::Vector3f>& points, bool left, const Params& p,
+                             double max_gap, double max_range, double reach) {
+  return followRows(in, pixels, points, max_gap, max_range,
+                    [&](int v, double u, double ppm, bool from_trace, double& edge) {
+                      // the rows found predict the edge itself
+                      const double inside = from_trace
+                                                ? std::min(reach, BandProfile::kEdgeReference[0])
+                                                : kFollowReach;
+                      return profile_.edgeInRow(in, v, u, ppm, left, p, inside, edge);
+                    });
+}
+
+}  // namespace rgbd_lane_detector

@@ -1,0 +1,127 @@
+// Row profiles across a line on a rendered level road, 80 rows below the horizon (the road
+// kHeight fy / 80 m ahead, 80 / kHeight = 53.3 px per metre across it): bands of paint width,
+// narrower and wider; the backgrounds of both sides; the centre of a band; where the road ends.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/band_profile.h"
+#include "road_cross_section.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+using namespace test;  // NOLINT: the rendered road
+
+constexpr int kRow = 270;                // kK.cy + 80
+constexpr double kPpm = 80.0 / kHeight;  // px per metre across the road on kRow
+double columnOf(double x) {
+  return kK.cx + x * kPpm;
+}  // of lateral x on kRow
+
+// A road of grey 80 with a band of grey 220 and width w centred at x = -1.8.
+CrossSection bandOfWidth(double w) {
+  CrossSection cs;
+  cs.colour = [w](double x, double) { return std::fabs(x + 1.8) < 0.5 * w ? grey(220) : grey(80); };
+  return cs;
+}
+
+struct Profile : RenderedRoad {
+  BandProfile profile;
+  RowMeasure m;
+  bool measure(double x, bool left = true) {
+    return profile.measureRow(in, cv::Point2f(static_cast<float>(columnOf(x)), kRow), left,
+                              Params::improved(), 1.0, m);
+  }
+};
+
+TEST(BandProfile, PaintIsABandOfItsWidthOnTheLine) {
+  Profile f;
+  f.render(bandOfWidth(0.16));  // 8.5 px: 8 or 9 pixels of paint
+  ASSERT_TRUE(f.measure(-1.8));
+  EXPECT_NEAR(f.m.ppm, kPpm, 1e-9);
+  EXPECT_NEAR(f.m.depth, kHeight * kK.fx / 80.0, 1e-9);
+  EXPECT_EQ(f.m.bg[0], 80.f);
+  EXPECT_EQ(f.m.bg[1], 80.f);
+  EXPECT_EQ(f.m.peak, 220.f);
+  ASSERT_NE(f.m.paint, nullptr);
+  EXPECT_EQ(f.m.narrow, nullptr);
+  EXPECT_EQ(f.m.wide, nullptr);
+  // a sharp band's half-peak edges are half a pixel outside its outer pixels
+  const double width_px = f.m.paint->hi - f.m.paint->lo;
+  EXPECT_TRUE(width_px == 8.0 || width_px == 9.0) << width_px;
+  EXPECT_LE(std::fabs(0.5 * (f.m.paint->lo + f.m.paint->hi)), 0.5);  // on the line
+}
+
+TEST(BandProfile, NarrowAndWideBandsAreNotPaint) {
+  Profile rail;
+  rail.render(bandOfWidth(0.04));  // 2 px: a rail head
+  ASSERT_TRUE(rail.measure(-1.8));
+  EXPECT_EQ(rail.m.paint, nullptr);
+  ASSERT_NE(rail.m.narrow, nullptr);
+  EXPECT_LE(rail.m.narrow->hi - rail.m.narrow->lo, 3.0);
+  Profile zebra;
+  zebra.render(bandOfWidth(0.6));  // 32 px: a zebra stripe
+  ASSERT_TRUE(zebra.measure(-1.8));
+  EXPECT_EQ(zebra.m.paint, nullptr);
+  ASSERT_NE(zebra.m.wide, nullptr);
+  EXPECT_NEAR(zebra.m.wide->hi - zebra.m.wide->lo, 0.6 * kPpm, 1.5);  // 31 px
+}
+
+TEST(BandProfile, SidesAreTheRoadBesideTheLineInnerThenOuter) {
+  // beyond a line left of the vehicle (x < -1.9) the surface is brighter: the outer side
+  CrossSection cs;
+  cs.colour = [](double x, double) { return x < -1.9 ? grey(150) : grey(80); };
+  Profile f;
+  f.render(cs);
+  ASSERT_TRUE(f.measure(-1.8, true));
+  EXPECT_EQ(f.m.outer_dir, -1);
+  EXPECT_EQ(f.m.bg[0], 80.f);
+  EXPECT_EQ(f.m.bg[1], 150.f);
+  EXPECT_EQ(f.m.top, 150.f);
+  ASSERT_TRUE(f.measure(-1.8, false));  // the same line taken as right of the vehicle
+  EXPECT_EQ(f.m.bg[0], 150.f);
+  EXPECT_EQ(f.m.bg[1], 80.f);
+}
+
+TEST(BandProfile, NoProfileOffTheRoadOrTooFar) {
+  Profile f;
+  f.render(bandOfWidth(0.16));
+  RowMeasure m;
+  const Params p = Params::improved();
+  EXPECT_FALSE(f.profile.measureRow(f.in, cv::Point2f(300.f, 150.f), true, p, 1.0, m));  // sky
+  // 10 rows below the horizon a pixel spans 0.15 m, more than 1 / kMinPixelsPerMetre
+  EXPECT_FALSE(f.profile.measureRow(f.in, cv::Point2f(300.f, 200.f), true, p, 1.0, m));
+  EXPECT_FALSE(f.profile.measureRow(f.in, cv::Point2f(5.f, kRow), true, p, 1.0, m));  // border
+}
+
+TEST(BandProfile, BandCentreIsTheMiddleOfTheBand) {
+  Profile f;
+  f.render(bandOfWidth(0.16));
+  const Params p = Params::improved();
+  double centre = 0.0;
+  ASSERT_TRUE(f.profile.bandCentre(f.in, kRow, columnOf(-1.8) + 3.0, 8, 20.0, p, centre));
+  EXPECT_NEAR(centre, columnOf(-1.8), 0.5);
+  EXPECT_FALSE(f.profile.bandCentre(f.in, kRow, columnOf(-1.8), 8, 5.0, p, centre));  // too wide
+  EXPECT_FALSE(f.profile.bandCentre(f.in, kRow, columnOf(0.0), 8, 20.0, p, centre));  // no band
+}
+
+TEST(BandProfile, EdgeInRowIsWhereTheRoadEnds) {
+  // grass from x = 1.79 on, right of the vehicle: the first grass pixel is column 416 on kRow
+  CrossSection cs;
+  cs.colour = [](double x, double) { return x >= 1.79 ? cv::Vec3b(70, 110, 40) : grey(80); };
+  Profile f;
+  f.render(cs);
+  const Params p = Params::improved();
+  double edge = 0.0;
+  ASSERT_TRUE(f.profile.edgeInRow(f.in, kRow, columnOf(1.9), kPpm, false, p, 0.3, edge));
+  EXPECT_DOUBLE_EQ(edge, 415.5);
+  // a road without an edge within reach
+  Profile g;
+  g.render(CrossSection());
+  EXPECT_FALSE(g.profile.edgeInRow(g.in, kRow, columnOf(1.9), kPpm, false, p, 0.3, edge));
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector

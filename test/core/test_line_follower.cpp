@@ -1,0 +1,108 @@
+// Following lines row by row on rendered cross-sections of a road: paint across dash gaps onto its
+// centre, a double line onto the centre between its lines, a kerb onto the bottom of its face.
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "rgbd_lane_detector/line_follower.h"
+#include "road_cross_section.h"
+
+namespace rgbd_lane_detector {
+namespace {
+
+using namespace test;  // NOLINT: the rendered road
+
+struct Road : RenderedRoad {
+  LineFollower follower;
+};
+
+TEST(LineFollower, FollowLineCentresOnThePaintAndCrossesDashGaps) {
+  // dashes of 4 m every 12 m at x = -1.7; the "trace" covers the dash 12-16 m ahead, 6 cm off
+  // the paint's centre
+  CrossSection cs;
+  cs.colour = [](double x, double z) {
+    const bool dash = std::fmod(z, 12.0) < 4.0;
+    return dash && std::fabs(x + 1.7) < 0.075 ? grey(220) : grey(80);
+  };
+  Road f;
+  f.render(cs);
+  std::vector<cv::Point2f> px;
+  for (double z = 12.0; z <= 16.0; z += 0.25)
+    px.emplace_back(static_cast<float>(kK.fx * -1.64 / z + kK.cx),
+                    static_cast<float>(kK.fy * kHeight / z + kK.cy));
+  std::vector<Eigen::Vector3f> pts;
+  const int rows = f.follower.followLine(f.in, px, pts, Params::improved(), 10.0, 60.0);
+  ASSERT_GE(rows, 10);
+  ASSERT_EQ(px.size(), pts.size());
+  double nearest = 1e9, farthest = 0.0;
+  for (const auto& c : px) {
+    // on the paint's centre, not the trace (within 3 cm, or 0.6 px far away)
+    EXPECT_NEAR(roadLateral(c), -1.7, std::max(0.03, 0.6 * roadForward(c) / kK.fx)) << c;
+    nearest = std::min(nearest, roadForward(c));
+    farthest = std::max(farthest, roadForward(c));
+  }
+  EXPECT_LT(nearest, 4.0);    // across the 8 m gap down to the dash at 0-4 m
+  EXPECT_GT(farthest, 24.0);  // and up to the dash at 24-28 m
+  for (size_t i = 1; i < px.size(); ++i) EXPECT_LT(px[i].y, px[i - 1].y);  // near to far
+}
+
+TEST(LineFollower, ADoubleLineIsOneBoundaryAtItsCentre) {
+  // two 0.12 m yellow lines 0.13 m apart centred at x = -1.8 (centres at -1.925 and -1.675)
+  CrossSection cs;
+  cs.colour = [](double x, double) {
+    return std::fabs(x + 1.925) < 0.06 || std::fabs(x + 1.675) < 0.06 ? cv::Vec3b(204, 158, 36)
+                                                                      : grey(90);
+  };
+  Road f;
+  f.render(cs);  // traced on the inner line
+  std::vector<cv::Point2f> px = linePixels(-1.675);
+  std::vector<Eigen::Vector3f> pts(px.size());
+  ASSERT_TRUE(f.follower.centreDoubleLine(f.in, px, pts, Params::improved()));
+  for (const auto& c : px) EXPECT_NEAR(roadLateral(c), -1.8, 0.03) << c;
+  EXPECT_TRUE(pts.front().allFinite());
+  // a single line stays where it is
+  CrossSection single;
+  single.colour = [](double x, double) {
+    return std::fabs(x + 1.8) < 0.075 ? grey(220) : grey(90);
+  };
+  Road g;
+  g.render(single);
+  std::vector<cv::Point2f> one = linePixels(-1.8);
+  EXPECT_FALSE(g.follower.centreDoubleLine(g.in, one, pts, Params::improved()));
+  for (const auto& c : one) EXPECT_NEAR(roadLateral(c), -1.8, 1e-3) << c;
+}
+
+TEST(LineFollower, FollowEdgeFindsWhereTheRoadEnds) {
+  // a kerb at x = 1.8 whose top (light stones) was traced 10 cm beyond the edge, 8-12 m ahead;
+  // leaves scattered in the gutter 0.3 m inside it are no edge
+  CrossSection cs;
+  cs.boxes = {{1.8, INFINITY, 0.12}};
+  cs.colour = [](double x, double z) {
+    if (x > 1.8 - 1e-6 && x < 1.95) return grey(200);  // its face and top
+    if (x > 1.8) return grey(150);
+    if (x > 1.45 && x < 1.5 && std::fmod(z, 1.0) < 0.2) return cv::Vec3b(160, 90, 30);  // leaf
+    return grey(80);
+  };
+  Road f;
+  f.render(cs);
+  std::vector<cv::Point2f> px;
+  for (double z = 8.0; z <= 12.0; z += 0.25)
+    px.emplace_back(static_cast<float>(kK.fx * 1.9 / z + kK.cx),
+                    static_cast<float>(kK.fy * (kHeight - 0.12) / z + kK.cy));
+  std::vector<Eigen::Vector3f> pts;
+  const int rows = f.follower.followEdge(f.in, px, pts, false, Params::improved(), 2.0, 60.0);
+  ASSERT_GE(rows, 10);
+  double nearest = 1e9, farthest = 0.0;
+  for (const auto& c : px) {
+    EXPECT_NEAR(roadLateral(c), 1.8, 0.06) << c;  // the bottom of the kerb's face
+    nearest = std::min(nearest, roadForward(c));
+    farthest = std::max(farthest, roadForward(c));
+  }
+  EXPECT_LT(nearest, 6.0);    // followed toward the car
+  EXPECT_GT(farthest, 14.0);  // and beyond the trace
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
