@@ -125,7 +125,7 @@ class LaneDetector {
   void computePoints(const Frame& frame);
   /// The road plane from depth (improved mode), near the vehicle's up axis when the frame gives
   /// the camera's pose, held over a fit that jumps from the last plane, extended toward the
-  /// camera where depth is missing (fillFromRoadPlane()).
+  /// camera where depth is missing (RoadSurface::extendToCamera()).
   void fitRoadSurface(const Frame& frame);
   void computeResponses();
   /// The frame as the candidate search sees it (candidate_frame_).
@@ -162,7 +162,7 @@ class LaneDetector {
   cv::Range grey_input_rows_;  ///< rows of the input image that the classifier's grey covers
   cv::Mat half_binary_;
   cv::Mat points_;
-  cv::Mat road_filled_;  ///< 255 where points_ holds the road plane, not depth (fillFromRoadPlane())
+  cv::Mat road_filled_;  ///< 255 where points_ holds the road plane, not depth (RoadSurface::extendToCamera())
   bool road_filled_valid_ = false;  ///< road_filled_ belongs to this frame
   cv::Mat geometric_;
   bool full_geometric_ = false;  ///< setFullGeometricMap()

@@ -68,6 +68,27 @@ class RoadSurface {
   bool fit(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& settings,
            const PlaneEstimate& previous, PlaneEstimate& plane);
 
+  /**
+   * @brief Extend the road surface toward the camera where depth is missing (LiDAR and stereo
+   * often see nothing in the bottom rows): in every column, below the nearest pixel whose depth
+   * lies on the road plane (within @p band0 + @p growth z^2), the pixels without depth get the
+   * point where their ray meets the plane. A column whose nearest depth is not road (a car, a
+   * wall) or that has no depth at all is left as it is: only a road seen to continue is extended.
+   * @param[in,out] points CV_32FC3 organised points.
+   * @param[in] rows rows to process.
+   * @param[in] K intrinsics of the depth image the points come from.
+   * @param[in] plane road plane (valid), n . p + d = 0, optical frame.
+   * @param[in] band0,growth inlier band of the plane at depth z: band0 + growth z^2 (m).
+   * @param[out] filled CV_8UC1 of the points' size, 255 where a point was filled, 0 elsewhere
+   *             (allocated when its size differs); a filled point is no measurement of height.
+   * @param[in] col_map,row_map optional: source column / row of each output column / row (see
+   *            depthToPoints()).
+   * @return pixels filled.
+   */
+  int extendToCamera(cv::Mat& points, const cv::Range& rows, const Intrinsics& K,
+                       const PlaneEstimate& plane, double band0, double growth, cv::Mat& filled,
+                       const cv::Mat& col_map = cv::Mat(), const cv::Mat& row_map = cv::Mat());
+
   /// Half width of the corridor ahead of the camera whose samples weigh more (m).
   static constexpr double kCorridorHalfWidth = 2.5;
 
@@ -113,32 +134,12 @@ class RoadSurface {
   std::vector<Sample> near_;  ///< samples within fit_range
   std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
   std::vector<float> ratios_;
+  std::vector<int> fill_from_;  ///< extendToCamera(): per column, the first row to fill
   double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;
   uint32_t rng_ = 1;
   double valid_range_ = 0.0;
   int inliers_ = 0;
 };
-
-/**
- * @brief Extend the road surface toward the camera where depth is missing (LiDAR and stereo
- * often see nothing in the bottom rows): in every column, below the nearest pixel whose depth
- * lies on the road plane (within @p band0 + @p growth z^2), the pixels without depth get the
- * point where their ray meets the plane. A column whose nearest depth is not road (a car, a
- * wall) or that has no depth at all is left as it is: only a road seen to continue is extended.
- * @param[in,out] points CV_32FC3 organised points.
- * @param[in] rows rows to process.
- * @param[in] K intrinsics of the depth image the points come from.
- * @param[in] plane road plane (valid), n . p + d = 0, optical frame.
- * @param[in] band0,growth inlier band of the plane at depth z: band0 + growth z^2 (m).
- * @param[out] filled CV_8UC1 of the points' size, 255 where a point was filled, 0 elsewhere
- *             (allocated when its size differs); a filled point is no measurement of height.
- * @param[in] col_map,row_map optional: source column / row of each output column / row (see
- *            depthToPoints()).
- * @return pixels filled.
- */
-int fillFromRoadPlane(cv::Mat& points, const cv::Range& rows, const Intrinsics& K,
-                      const PlaneEstimate& plane, double band0, double growth, cv::Mat& filled,
-                      const cv::Mat& col_map = cv::Mat(), const cv::Mat& row_map = cv::Mat());
 
 }  // namespace rgbd_lane_detector

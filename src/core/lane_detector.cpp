@@ -437,9 +437,9 @@ void LaneDetector::fitRoadSurface(const Frame& frame) {
   // LiDAR and stereo often see nothing near the car: where a column's nearest depth is road, the
   // road continues toward the camera (its points give seeds there a road's normal and depth)
   const int h = params_.normal_window / 2;
-  fillFromRoadPlane(points_, cv::Range(roi_rows_.start, std::min(proc_size_.height, roi_rows_.end + h)),
-                    proc_K_, road_, s.inlier_distance, road_surface_.noiseGrowth(), road_filled_,
-                    col_map_, row_map_);
+  road_surface_.extendToCamera(
+      points_, cv::Range(roi_rows_.start, std::min(proc_size_.height, roi_rows_.end + h)), proc_K_,
+      road_, s.inlier_distance, road_surface_.noiseGrowth(), road_filled_, col_map_, row_map_);
   road_filled_valid_ = true;
 }
 

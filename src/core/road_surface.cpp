@@ -344,36 +344,58 @@ bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
   return true;
 }
 
-int fillFromRoadPlane(cv::Mat& points, const cv::Range& rows, const Intrinsics& K,
-                      const PlaneEstimate& plane, double band0, double growth, cv::Mat& filled,
-                      const cv::Mat& col_map, const cv::Mat& row_map) {
+int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const Intrinsics& K,
+                                const PlaneEstimate& plane, double band0, double growth,
+                                cv::Mat& filled, const cv::Mat& col_map, const cv::Mat& row_map) {
   filled.create(points.size(), CV_8UC1);
   for (int y = 0; y < filled.rows; ++y)  // (cv::Mat::setTo allocates)
     std::memset(filled.ptr<uint8_t>(y), 0, filled.cols);
   if (!plane.valid || points.type() != CV_32FC3) return 0;
   const int r0 = std::max(rows.start, 0);
   const int r1 = std::min(rows.end, points.rows);
+  const int w = points.cols;
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
   const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
-  int count = 0;
-  for (int x = 0; x < points.cols; ++x) {
-    // the nearest (lowest) pixel with depth in this column
-    int y = r1 - 1;
-    while (y >= r0 && std::isnan(points.at<cv::Vec3f>(y, x)[2])) --y;
-    if (y < r0 || y == r1 - 1) continue;  // no depth at all, or nothing missing below it
+  // the nearest (lowest) row with depth of every column, rows read in memory order (a column
+  // walk strides a whole row per pixel: on sparse LiDAR depth it cost 10 ms at 1600x900)
+  fill_from_.assign(w, -1);
+  int open = w;
+  for (int y = r1 - 1; y >= r0 && open > 0; --y) {
+    const cv::Vec3f* row = points.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < w; ++x)
+      if (fill_from_[x] < 0 && !std::isnan(row[x][2])) {
+        fill_from_[x] = y;
+        --open;
+      }
+  }
+  // the first row to fill: below a nearest depth on the road; none without depth, below
+  // something else (a car, a wall) or with nothing missing below it
+  int first = r1;
+  for (int x = 0; x < w; ++x) {
+    const int y = fill_from_[x];
+    fill_from_[x] = r1;
+    if (y < r0 || y == r1 - 1) continue;
     const cv::Vec3f& q = points.at<cv::Vec3f>(y, x);
     const double z = q[2];
     const double h = planeDistance(plane, Eigen::Vector3f(q[0], q[1], q[2]));
     if (!(std::fabs(h) <= band0 + growth * z * z)) continue;  // not road: nothing to extend
-    for (int v = y + 1; v < r1; ++v) {
+    fill_from_[x] = y + 1;
+    first = std::min(first, y + 1);
+  }
+  int count = 0;
+  for (int v = first; v < r1; ++v) {
+    cv::Vec3f* row = points.ptr<cv::Vec3f>(v);
+    uint8_t* mark = filled.ptr<uint8_t>(v);
+    for (int x = 0; x < w; ++x) {
+      if (v < fill_from_[x]) continue;
       const Eigen::Vector3d ray = K.ray(cm ? cm[x] : x, rm ? rm[v] : v);
       double t;
       if (!rayPlaneDepth(plane, ray, t)) continue;  // the ray misses the road plane
-      cv::Vec3f& p = points.at<cv::Vec3f>(v, x);
+      cv::Vec3f& p = row[x];
       if (!std::isnan(p[2])) continue;
       p = cv::Vec3f(static_cast<float>(ray.x() * t), static_cast<float>(ray.y() * t),
                     static_cast<float>(t));
-      filled.at<uint8_t>(v, x) = 255;
+      mark[x] = 255;
       ++count;
     }
   }

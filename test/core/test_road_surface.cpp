@@ -91,7 +91,7 @@ TEST(RoadSurface, FillFromRoadPlaneExtendsOnlyARoadSeenToContinue) {
   PlaneEstimate plane;
   ASSERT_TRUE(road.fit(pts, kRows, settings(), PlaneEstimate(), plane));
   cv::Mat filled;
-  const int count = fillFromRoadPlane(pts, kRows, kK, plane, 0.04, 0.0015, filled);
+  const int count = road.extendToCamera(pts, kRows, kK, plane, 0.04, 0.0015, filled);
   EXPECT_GT(count, 0);
   EXPECT_EQ(cv::countNonZero(filled), count);
   const cv::Mat truth = Scene().render();  // the road without holes or the car
@@ -113,7 +113,7 @@ TEST(RoadSurface, FillFromRoadPlaneExtendsOnlyARoadSeenToContinue) {
   const int car_column = static_cast<int>(kK.cx + kK.fx * -1.6 / 2.0);
   EXPECT_EQ(filled.at<uint8_t>(kH - 1, car_column), 0);
   // without a plane: nothing
-  EXPECT_EQ(fillFromRoadPlane(pts, kRows, kK, PlaneEstimate(), 0.04, 0.0015, filled), 0);
+  EXPECT_EQ(road.extendToCamera(pts, kRows, kK, PlaneEstimate(), 0.04, 0.0015, filled), 0);
   EXPECT_EQ(cv::countNonZero(filled), 0);
 }
 
