@@ -140,7 +140,7 @@ class BoundaryCandidateFinder {
   /// lateral(forward) (road-plane coordinates of @p frame) over most of its points.
   template <typename Lateral>
   bool candidateOnLine(const CandidateFrame& f, int side, BoundaryKind kind,
-                       const PlaneFrame& frame, double reach, Lateral&& lateral) const;
+                       const RoadFrame& frame, double reach, Lateral&& lateral) const;
   /// A tracked painted side is also sought where its model predicts it, row by row: the
   /// template's seeds can miss a line whose image angle changes fast (a lane change).
   void followPredictedLines(const CandidateFrame& f);

@@ -66,7 +66,7 @@ struct ClassifierInput {
   const cv::Mat* filled = nullptr;
   double scale_x = 1.0, scale_y = 1.0; ///< processing / input resolution
   PlaneEstimate const* plane = nullptr;  ///< road plane (valid)
-  PlaneFrame frame;                    ///< its road coordinates (forward, lateral right)
+  RoadFrame frame;                     ///< its road coordinates (forward, lateral left)
 };
 
 /**

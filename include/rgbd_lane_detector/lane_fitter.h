@@ -27,10 +27,10 @@ namespace rgbd_lane_detector {
 struct BoundaryCandidate {
   MarkerTrace trace;           ///< seed, angle, centroids (input pixels), scores, depth points
   BoundaryEvidence evidence;   ///< kind, or not a boundary
-  std::vector<Eigen::Vector2d> road;  ///< (forward, lateral) of its points in the road plane
-  double offset = 0.0;         ///< lateral offset of its line at the camera (m, + right)
-  double lateral = 0.0;        ///< median lateral position of its points (m, + right): where it is
-  double heading = 0.0;        ///< its direction in the road plane (rad, + toward the right)
+  std::vector<Eigen::Vector2d> road;  ///< (forward, lateral) of its points (RoadFrame x, y)
+  double offset = 0.0;         ///< lateral offset of its line at the camera (m, + left)
+  double lateral = 0.0;        ///< median lateral position of its points (m, + left): where it is
+  double heading = 0.0;        ///< its direction in the road plane (rad, + toward the left)
   bool usable = false;         ///< a boundary on its side, in range, along the road
 };
 
@@ -82,7 +82,7 @@ class LaneFitter {
    * @param[in] left side of the candidate.
    * @param[in,out] c candidate (trace and evidence in; road, offset, heading, usable out).
    */
-  void measure(const Intrinsics& K, const PlaneEstimate& plane, const PlaneFrame& frame,
+  void measure(const Intrinsics& K, const PlaneEstimate& plane, const RoadFrame& frame,
                double road_range, bool left, BoundaryCandidate& c) const;
 
  private:
@@ -100,7 +100,7 @@ class LaneFitter {
   /// A road edge seen this frame on its own points @p road (forward, lateral): their robust
   /// quadratic curve over their range, 40 points near to far in @p out (camera frame; empty
   /// when fewer than 5 points fit it).
-  void measuredEdge(const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+  void measuredEdge(const std::vector<Eigen::Vector2d>& road, const RoadFrame& frame,
                     std::vector<Eigen::Vector3f>& out) const;
 
   Params params_;

@@ -5,8 +5,8 @@
  * last stage, after the detector's per-frame boundaries).
  *
  * Vehicle frame (REP-103): x forward, y left, z up, origin on the road under the vehicle
- * reference point (base_link, or the road-aligned frame under the camera: see
- * roadAlignedFrame()). Each boundary is y(x) = c0 + c1 x + c2 x^2 + c3 x^3 over [x_min, x_max]:
+ * reference point (base_link, or the road-aligned frame under the camera:
+ * RoadFrame::roadFromCamera(), geometry.h). Each boundary is y(x) = c0 + c1 x + c2 x^2 + c3 x^3 over [x_min, x_max]:
  * c0 its lateral offset at the vehicle (m, + left), atan(c1) its heading relative to the
  * vehicle's x axis, 2 c2 its curvature at x = 0 (1/m, + turning left; c2 is the raw x^2
  * coefficient, half the curvature, as in Apollo's LaneMarker), 6 c3 the curvature's rate of
@@ -46,6 +46,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
@@ -188,14 +189,5 @@ class LaneModelFilter {
  * @return the confidence, in [0, 1].
  */
 float calibratedConfidence(float evidence);
-
-/**
- * @brief The road-aligned frame under the camera, the vehicle frame when no base_link is known:
- * origin where the camera's vertical meets the road plane, z the plane's normal (up), x the
- * camera's optical axis projected onto the plane (forward), y = z x x (left).
- * @param[in] plane road plane in the optical frame (valid).
- * @return pose of the camera optical frame in that frame (identity for an invalid plane).
- */
-Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane);
 
 }  // namespace rgbd_lane_detector

@@ -44,14 +44,14 @@ double clampAngle(double angle, bool left) {
   return left ? M_PI - from_h : from_h;
 }
 
-// Road-plane coordinates (forward, lateral right) of the input pixel (u, v): its ray met with the
+// Road-plane coordinates (forward, lateral left) of the input pixel (u, v): its ray met with the
 // road plane of @p f in @p frame; false where the ray does not meet the road ahead.
-bool roadCoordinates(const CandidateFrame& f, const PlaneFrame& frame, double u, double v,
+bool roadCoordinates(const CandidateFrame& f, const RoadFrame& frame, double u, double v,
                      Eigen::Vector2d& q) {
   const Eigen::Vector3d ray((u - f.K.cx) / f.K.fx, (v - f.K.cy) / f.K.fy, 1.0);
   const double den = f.road->normal.dot(ray);
   if (!(den < -1e-9)) return false;
-  q = frame.toPlane(ray * (-f.road->distance / den));
+  q = frame.toRoad(ray * (-f.road->distance / den));
   return true;
 }
 
@@ -88,7 +88,7 @@ void classifierInputOf(const CandidateFrame& f, const PlaneEstimate& plane, Clas
   in.scale_x = static_cast<double>(f.proc_size.width) / f.input_size.width;
   in.scale_y = static_cast<double>(f.proc_size.height) / f.input_size.height;
   in.plane = &plane;
-  in.frame = PlaneFrame::fromPlane(plane);
+  in.frame = RoadFrame::fromPlane(plane);
 }
 
 BoundaryCandidate& BoundaryCandidateFinder::next(int side) {
@@ -234,7 +234,7 @@ bool BoundaryCandidateFinder::predictedBand(const CandidateFrame& f, int side,
   const PlaneEstimate& previous = f.fitter->previousPlane();
   if (!params_.track_lanes || band <= 0 || !previous.valid || !f.fitter->tracker().valid(side))
     return false;
-  const PlaneFrame frame = PlaneFrame::fromPlane(previous);
+  const RoadFrame frame = RoadFrame::fromPlane(previous);
   f.fitter->tracker().sample(side, frame, 1.0, samples_);
   // per processing row, the columns within `band` of the predicted marker (lo > hi: none)
   band_lo_.assign(f.proc_size.height, 1);
@@ -412,7 +412,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   int stretches = 0;
   double near_f = std::numeric_limits<double>::infinity(), far_f = -near_f, last_f = 0.0;
   double start_f = 0.0, covered = 0.0;
-  const PlaneFrame& frame = classifier_input_.frame;
+  const RoadFrame& frame = classifier_input_.frame;
   for (const auto& px : pixels) {  // near to far
     Eigen::Vector2d q, q1;
     if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
@@ -508,8 +508,8 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
   }
   Eigen::Vector2d q;
   if (!roadCoordinates(f, in.frame, m.seed.x, m.seed.y, q)) return false;
-  // an ego-lane boundary's distance beside the camera (lateral: + right)
-  const double beside = left ? -q.y() : q.y();
+  // an ego-lane boundary's distance beside the camera (lateral: + left)
+  const double beside = left ? q.y() : -q.y();
   if (beside < params_.boundary_offset_min || beside > params_.boundary_offset_max) return false;
   // the line through the seed straight ahead on the road (ego-lane lines run with the vehicle)
   seed_pixels_.clear();
@@ -532,7 +532,7 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
 
 template <typename Lateral>
 bool BoundaryCandidateFinder::candidateOnLine(const CandidateFrame& f, int side, BoundaryKind kind,
-                                              const PlaneFrame& frame, double reach,
+                                              const RoadFrame& frame, double reach,
                                               Lateral&& lateral) const {
   for (int k = 0; k < counts_[side]; ++k) {
     const BoundaryCandidate& c = candidates_[side][k];
@@ -553,7 +553,7 @@ void BoundaryCandidateFinder::followPredictedLines(const CandidateFrame& f) {
   const PlaneEstimate& previous = f.fitter->previousPlane();
   if (!params_.track_lanes || !previous.valid) return;
   const ClassifierInput& in = classifier_input_;  // set by classify()
-  const PlaneFrame frame = PlaneFrame::fromPlane(*f.road);
+  const RoadFrame frame = RoadFrame::fromPlane(*f.road);
   const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
   const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
   for (int side = 0; side < 2; ++side) {

@@ -149,7 +149,7 @@ bool roadAt(const ClassifierInput& in, double u, double v, double& f, double& pp
   const double den = in.plane->normal.dot(ray);
   if (!(den < -1e-9)) return false;
   const double t = -in.plane->distance / den;
-  f = in.frame.toPlane(ray * t).x();
+  f = in.frame.toRoad(ray * t).x();
   ppm = K.fx / t;
   return true;
 }
@@ -261,7 +261,7 @@ double BoundaryClassifier::cosHeading(const ClassifierInput& in,
     const Eigen::Vector3d ray((c.x - in.K.cx) / in.K.fx, (c.y - in.K.cy) / in.K.fy, 1.0);
     const double den = n.dot(ray);
     if (!(den < -1e-9)) continue;
-    const Eigen::Vector2d q = in.frame.toPlane(ray * (-d / den));
+    const Eigen::Vector2d q = in.frame.toRoad(ray * (-d / den));
     if (!have_a) {
       a = q;
       have_a = true;
@@ -387,7 +387,7 @@ template <typename FindInRow>
 int BoundaryClassifier::followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                    std::vector<Eigen::Vector3f>& points, double max_gap,
                                    double max_range, FindInRow&& find) {
-  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid) return 0;
+  if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid()) return 0;
   // the trace by row, near (bottom) to far (top)
   int v_near = 0, v_far = in.colour->rows;
   for (const auto& c : pixels) {
@@ -712,7 +712,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_,
                   &pair_step_, &pair_raise_, &far_step_})
     v->clear();
-  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid) {
+  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid()) {
     ev.reason = "no plane";
     return;
   }
@@ -893,13 +893,13 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
                                       const std::vector<cv::Point2f>& pixels, bool left,
                                       const Params& p, float& coverage, float& yellowness) {
   coverage = yellowness = -1.0f;
-  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid || pixels.size() < 2) return;
+  if (in.plane == nullptr || !in.plane->valid || !in.frame.valid() || pixels.size() < 2) return;
   const double cos_heading = cosHeading(in, pixels);
   // each point stands for the stretch of road half-way to its neighbours
   auto forward = [&](const cv::Point2f& c) {
     const Eigen::Vector3d ray((c.x - in.K.cx) / in.K.fx, (c.y - in.K.cy) / in.K.fy, 1.0);
     const double den = in.plane->normal.dot(ray);
-    return den < -1e-9 ? in.frame.toPlane(ray * (-in.plane->distance / den)).x() : NAN;
+    return den < -1e-9 ? in.frame.toRoad(ray * (-in.plane->distance / den)).x() : NAN;
   };
   double covered = 0.0, total = 0.0;
   yellow_.clear();

@@ -508,7 +508,8 @@ void LaneDetector::updateLaneModel(const Frame& frame, Result& result) {
     return;
   }
   const Eigen::Isometry3d T =
-      frame.has_vehicle_frame ? frame.vehicle_from_camera : roadAlignedFrame(result.plane);
+      frame.has_vehicle_frame ? frame.vehicle_from_camera
+                              : RoadFrame::fromPlane(result.plane).roadFromCamera();
   lane_model_.update(T, observations_.data(), count, result.lane_model);
 }
 

@@ -151,12 +151,12 @@ void LaneFitter::fitMarkerPlane(const LaneFitInput& in, Result& result) {
 
 // --- improved mode: each boundary on its own -----------------------------------------------
 
-void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const PlaneFrame& frame,
+void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const RoadFrame& frame,
                          double road_range, bool left, BoundaryCandidate& c) const {
   c.road.clear();
   c.usable = false;
   c.offset = c.heading = c.lateral = std::numeric_limits<double>::quiet_NaN();
-  if (!c.evidence.boundary || !frame.valid) return;
+  if (!c.evidence.boundary || !frame.valid()) return;
   const bool edge = c.evidence.kind == BoundaryKind::kRoadEdge;
   const MarkerTrace& t = c.trace;
   for (size_t k = 0; k < t.pixels.size(); ++k) {
@@ -177,7 +177,7 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
       P = q.cast<double>();
     else
       continue;
-    const Eigen::Vector2d fl = frame.toPlane(P);
+    const Eigen::Vector2d fl = frame.toRoad(P);
     if (fl.x() >= kNearestForward) c.road.push_back(fl);
   }
   if (static_cast<int>(c.road.size()) < params_.min_marker_points) return;
@@ -186,12 +186,14 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
   c.offset = a;
   c.heading = std::atan(b);
   // where it is: the median lateral position of its own points (the offset extrapolates the
-  // line to the vehicle, and two lines seen at different headings would compare there)
+  // line to the vehicle, and two lines seen at different headings would compare there); of an
+  // even count the lower one, the one nearer the right (as when the lateral axis pointed right)
   laterals_.clear();
   for (const auto& q : c.road) laterals_.push_back(q.y());
-  std::nth_element(laterals_.begin(), laterals_.begin() + laterals_.size() / 2, laterals_.end());
-  c.lateral = laterals_[laterals_.size() / 2];
-  const double side = left ? -a : a;
+  const size_t mid = (laterals_.size() - 1) / 2;
+  std::nth_element(laterals_.begin(), laterals_.begin() + mid, laterals_.end());
+  c.lateral = laterals_[mid];
+  const double side = left ? a : -a;
   c.usable = side >= params_.boundary_offset_min && side <= params_.boundary_offset_max &&
              std::fabs(c.heading) <= kMaxHeading;
 }
@@ -295,11 +297,11 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     }
   }
   if (!plane.valid) {
-    tracker_.update(PlaneFrame(), none_, none_, tp);  // ages the lane model
+    tracker_.update(RoadFrame(), none_, none_, tp);  // ages the lane model
     return;
   }
   smoothPlane(plane);
-  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
+  const RoadFrame frame = RoadFrame::fromPlane(plane);
 
   // each side's boundary: the nearest usable candidate (the tracked one while it is seen)
   int chosen[2] = {-1, -1};
@@ -316,7 +318,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
   // A side whose marker passed under the vehicle (a lane change) is the other side's now.
   for (int i = 0; i < 2; ++i) {
     if (!tracker_.valid(i)) continue;
-    const double crossed = (i == 0 ? 1.0 : -1.0) * tracker_.lateral(i, kCrossProbe);
+    const double crossed = (i == 0 ? -1.0 : 1.0) * tracker_.lateral(i, kCrossProbe);
     if (crossed <= 0.0) continue;
     tracker_.handOver(i);
     kind_score_[1 - i] = kind_score_[i];
@@ -372,7 +374,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
                                            : LaneTracker::kPaintExtrapolation);
     for (const auto& q : samples_) {
       if (!(q.z() > 0.1f)) continue;
-      if (frame.toPlane(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
+      if (frame.toRoad(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
       m.points.push_back(q);
       m.pixels.emplace_back(static_cast<float>(in.K.fx * q.x() / q.z() + in.K.cx),
                             static_cast<float>(in.K.fy * q.y() / q.z() + in.K.cy));
@@ -427,7 +429,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
 
   // Two sides closer or farther apart than any lane: the less confident one is not reported.
   if (result.left.found && result.right.found && p.lane_width_max > 0.0) {
-    const double width = tracker_.lateral(1, kWidthProbe) - tracker_.lateral(0, kWidthProbe);
+    const double width = tracker_.lateral(0, kWidthProbe) - tracker_.lateral(1, kWidthProbe);
     if (!(width >= p.lane_width_min && width <= p.lane_width_max)) {
       MarkerTrace& weaker = result.left.confidence < result.right.confidence ? result.left
                                                                              : result.right;
@@ -492,22 +494,21 @@ void LaneFitter::snapToPlane(const Intrinsics& K, const PlaneEstimate& plane,
 
 double LaneFitter::laneWidth(const PlaneEstimate& plane, const MarkerTrace& L,
                              const MarkerTrace& R) const {
-  // lateral axis of the road: the optical axis projected into the plane, crossed with the normal
-  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
-  if (!frame.valid) return std::numeric_limits<double>::quiet_NaN();
+  const RoadFrame frame = RoadFrame::fromPlane(plane);
+  if (!frame.valid()) return std::numeric_limits<double>::quiet_NaN();
   // for each left point, the right point nearest in the forward direction
   width_samples_.clear();
   for (const auto& l : L.points) {
     if (!l.allFinite()) continue;
-    const Eigen::Vector2d ql = frame.toPlane(l.cast<double>());
+    const Eigen::Vector2d ql = frame.toRoad(l.cast<double>());
     double best = std::numeric_limits<double>::infinity(), lat = 0.0;
     for (const auto& r : R.points) {
       if (!r.allFinite()) continue;
-      const Eigen::Vector2d qr = frame.toPlane(r.cast<double>());
+      const Eigen::Vector2d qr = frame.toRoad(r.cast<double>());
       const double df = std::fabs(qr.x() - ql.x());
       if (df < best) {
         best = df;
-        lat = qr.y() - ql.y();
+        lat = ql.y() - qr.y();
       }
     }
     if (best < 2.0) width_samples_.push_back(lat);
@@ -525,7 +526,7 @@ void LaneFitter::rejectIncomplete(Result& result) const {
   result.left.confidence = result.right.confidence = 0.0f;
 }
 
-void LaneFitter::measuredEdge(const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+void LaneFitter::measuredEdge(const std::vector<Eigen::Vector2d>& road, const RoadFrame& frame,
                               std::vector<Eigen::Vector3f>& out) const {
   out.clear();
   if (road.size() < static_cast<size_t>(kMinEdgePoints)) return;

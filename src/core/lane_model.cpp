@@ -125,24 +125,6 @@ float calibratedConfidence(float evidence) {
   return kKnots[n - 1][1];
 }
 
-Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (!plane.valid) return T;
-  const Eigen::Vector3d z = plane.normal.normalized();  // up, optical frame
-  Eigen::Vector3d x = Eigen::Vector3d::UnitZ() - z * z.z();
-  if (x.norm() < 1e-6) return T;
-  x.normalize();
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Matrix3d R;  // rows: the road frame's axes in the optical frame
-  R.row(0) = x.transpose();
-  R.row(1) = y.transpose();
-  R.row(2) = z.transpose();
-  T.linear() = R;
-  // the camera is plane.distance above the origin
-  T.translation() = Eigen::Vector3d(0.0, 0.0, plane.distance);
-  return T;
-}
-
 LaneModelFilter::LaneModelFilter() {
   scratch_.reserve(kMaxPoints);
   reset();

@@ -74,8 +74,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
   }
   edges_[0].clear();
   edges_[1].clear();
-  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
-  if (!frame.valid || points.type() != CV_32FC3) return;
+  const RoadFrame frame = RoadFrame::fromPlane(plane);
+  if (!frame.valid() || points.type() != CV_32FC3) return;
   const Eigen::Vector3f n = plane.normal.cast<float>();
   const float d = static_cast<float>(plane.distance);
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
@@ -134,8 +134,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
             const cv::Vec3f& a = row[last_road];
             const cv::Vec3f& b = row[first_raised];
             RowEdge e;
-            e.road = 0.5 * (frame.toPlane(Eigen::Vector3d(a[0], a[1], a[2])) +
-                            frame.toPlane(Eigen::Vector3d(b[0], b[1], b[2])));
+            e.road = 0.5 * (frame.toRoad(Eigen::Vector3d(a[0], a[1], a[2])) +
+                            frame.toRoad(Eigen::Vector3d(b[0], b[1], b[2])));
             // a sidewalk stays low beyond its kerb, and its top is level; a car's or a truck's
             // side rises, its rear face is vertical
             if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local,
@@ -153,14 +153,14 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
 }
 
 void RoadEdgeFinder::fitSide(const std::vector<RowEdge>& edges, const Intrinsics& K,
-                             const PlaneFrame& frame, const RoadEdgeSettings& s, bool left,
+                             const RoadFrame& frame, const RoadEdgeSettings& s, bool left,
                              RoadEdgeLine& out) {
   if (static_cast<int>(edges.size()) < kMinRows) return;
   road_.clear();
   for (const RowEdge& e : edges) road_.push_back(e.road);
   double a = 0.0, b = 0.0;
   if (!fitRobustLine(road_, kLineGate, a, b)) return;
-  const double side = left ? -a : a;
+  const double side = left ? a : -a;
   if (side < s.offset_min || side > s.offset_max || std::fabs(std::atan(b)) > kMaxHeading) return;
   double near = 1e9, far = -1e9;
   inliers_.clear();

@@ -103,7 +103,7 @@ struct Fixture {
     in.K = kK;
     in.points = &points;
     in.plane = &plane;
-    in.frame = PlaneFrame::fromPlane(plane);
+    in.frame = RoadFrame::fromPlane(plane);
     pixels = std::move(px);
     classifier.classify(in, pixels, left, p, ev);
   }
