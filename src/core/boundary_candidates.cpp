@@ -48,10 +48,10 @@ double clampAngle(double angle, bool left) {
 // road plane of @p f in @p frame; false where the ray does not meet the road ahead.
 bool roadCoordinates(const CandidateFrame& f, const RoadFrame& frame, double u, double v,
                      Eigen::Vector2d& q) {
-  const Eigen::Vector3d ray((u - f.K.cx) / f.K.fx, (v - f.K.cy) / f.K.fy, 1.0);
-  const double den = f.road->normal.dot(ray);
-  if (!(den < -1e-9)) return false;
-  q = frame.toRoad(ray * (-f.road->distance / den));
+  const Eigen::Vector3d ray = f.K.ray(u, v);
+  double z = 0.0;
+  if (!rayPlaneDepth(*f.road, ray, z)) return false;
+  q = frame.toRoad(ray * z);
   return true;
 }
 
@@ -246,8 +246,8 @@ bool BoundaryCandidateFinder::predictedBand(const CandidateFrame& f, int side,
   bool have_prev = false;
   for (const auto& q : samples_) {
     if (!(q.z() > 0.1f)) continue;
-    const cv::Point2d cur((f.K.fx * q.x() / q.z() + f.K.cx + 0.5) * sx - 0.5,
-                          (f.K.fy * q.y() / q.z() + f.K.cy + 0.5) * sy - 0.5);
+    const cv::Point2d px = f.K.project(q);
+    const cv::Point2d cur((px.x + 0.5) * sx - 0.5, (px.y + 0.5) * sy - 0.5);
     if (have_prev) {
       const int y0 = std::max(area.y, static_cast<int>(std::ceil(std::min(prev.y, cur.y))));
       const int y1 =
@@ -332,8 +332,9 @@ Eigen::Vector3f BoundaryCandidateFinder::pointAt(const CandidateFrame& f,
   // ray through the sampled source pixel, scaled to z = 1
   const int sx = f.col_map->empty() ? cx : f.col_map->at<int>(cx);
   const int sy = f.row_map->empty() ? cy : f.row_map->at<int>(cy);
-  const float rx = static_cast<float>((sx - f.K.cx) / f.K.fx);
-  const float ry = static_cast<float>((sy - f.K.cy) / f.K.fy);
+  const Eigen::Vector3d ray = f.K.ray(sx, sy);
+  const float rx = static_cast<float>(ray.x());
+  const float ry = static_cast<float>(ray.y());
   const int half = params_.template_size / 2;
   for (int r = 1; r <= half; ++r) {
     for (int dy = -r; dy <= r; ++dy) {
@@ -517,8 +518,7 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
   for (double df : {-kSeedSpan, 0.0, kSeedSpan}) {
     const Eigen::Vector3d p = in.frame.toCamera(q.x() + df, q.y());
     if (!(p.z() > 0.1)) continue;
-    seed_pixels_.emplace_back(static_cast<float>(f.K.fx * p.x() / p.z() + f.K.cx),
-                              static_cast<float>(f.K.fy * p.y() / p.z() + f.K.cy));
+    seed_pixels_.emplace_back(f.K.project(p));
   }
   if (seed_pixels_.size() < 2 || !followed(in, kSeedReach)) return false;
   if (loneStroke(f, seed_pixels_) || !runsAhead(f, seed_pixels_)) return false;
@@ -571,8 +571,7 @@ void BoundaryCandidateFinder::followPredictedLines(const CandidateFrame& f) {
     f.fitter->tracker().sample(side, frame, 1.0, samples_);
     for (const auto& q : samples_) {
       if (!(q.z() > 0.1f)) continue;
-      const cv::Point2f px(static_cast<float>(f.K.fx * q.x() / q.z() + f.K.cx),
-                           static_cast<float>(f.K.fy * q.y() / q.z() + f.K.cy));
+      const cv::Point2f px(f.K.project(q));
       m.pixels.push_back(px);
       m.points.push_back(pointAt(f, cv::Point2f(static_cast<float>((px.x + 0.5) * sx - 0.5),
                                                 static_cast<float>((px.y + 0.5) * sy - 0.5))));

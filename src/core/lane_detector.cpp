@@ -32,20 +32,6 @@ double msSince(Clock::time_point& t) {
   return ms;
 }
 
-int colourChannels(PixelFormat f) {
-  switch (f) {
-    case PixelFormat::kBgr8:
-    case PixelFormat::kRgb8:
-      return 3;
-    case PixelFormat::kBgra8:
-    case PixelFormat::kRgba8:
-      return 4;
-    case PixelFormat::kMono8:
-      return 1;
-  }
-  return 0;
-}
-
 // Resample rows/columns through index maps (nearest neighbour), no allocation when sized.
 template <typename T>
 void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row_map, int elem,
@@ -116,11 +102,10 @@ Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,
   // refuse is refused here, before anything is allocated.
   if (size.width <= 0 || size.height <= 0) return Status::kEmptyImage;
   if (!intrinsics.valid()) return Status::kInvalidIntrinsics;
-  static const int kTypes[] = {CV_8UC3, CV_8UC3, CV_8UC4, CV_8UC4, CV_8UC1};
   Frame f;
   f.format = format;
   f.intrinsics = intrinsics;
-  f.colour.create(size, kTypes[static_cast<int>(format)]);
+  f.colour.create(size, CV_8UC(pixelLayout(format).channels));
   f.colour.setTo(cv::Scalar::all(90));
   f.depth.create(size, CV_32FC1);
   for (int v = 0; v < size.height; ++v) {
@@ -136,7 +121,7 @@ Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,
 Status LaneDetector::validate(const Frame& frame) const {
   if (frame.colour.empty() || frame.depth.empty()) return Status::kEmptyImage;
   if (frame.colour.size() != frame.depth.size()) return Status::kSizeMismatch;
-  if (frame.colour.depth() != CV_8U || frame.colour.channels() != colourChannels(frame.format))
+  if (frame.colour.depth() != CV_8U || frame.colour.channels() != pixelLayout(frame.format).channels)
     return Status::kUnsupportedColour;
   if (frame.depth.type() == CV_16UC1) {
     if (!(frame.depth_scale > 0.0) || !std::isfinite(frame.depth_scale))

@@ -16,8 +16,11 @@ constexpr double kMaxHeading = 0.35;     // rad: a lane boundary runs along the 
 constexpr double kNearestForward = 0.5;  // m: points closer ahead are not used
 constexpr double kEdgeDepthHeight = 0.3; // m: depth of a road edge up to this high is its own
 constexpr float kKindMemory = 0.8f;      // decay per frame of a side's kind vote
-constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence of 1 - 1/e
-constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
+// A tracked side's reported confidence (MarkerTrace::confidence, the detector's own): frames of
+// evidence for 1 - 1/e, and its factor per frame without evidence. Not the lane model's evidence
+// score (lane_model.cpp), which has its own decay and is calibrated on its own.
+constexpr double kConfidenceFrames = 3.0;
+constexpr double kConfidenceAgeDecay = 0.8;
 constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
 constexpr int kMinEdgePoints = 5;       // own points a road edge is reported on
 constexpr int kMaxEdgeSamples = 40;     // reported points of a road edge at most
@@ -166,13 +169,13 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
     const Eigen::Vector3f& q = t.points[k];
     const bool depth = q.allFinite() && std::fabs(planeDistance(plane, q)) <= kEdgeDepthHeight;
     Eigen::Vector3d P;
-    const Eigen::Vector3d ray((t.pixels[k].x - K.cx) / K.fx, (t.pixels[k].y - K.cy) / K.fy, 1.0);
-    const double den = plane.normal.dot(ray);
-    const bool on_plane = den < -1e-9 && -plane.distance / den <= road_range;
+    const Eigen::Vector3d ray = K.ray(t.pixels[k].x, t.pixels[k].y);
+    double z = 0.0;
+    const bool on_plane = rayPlaneDepth(plane, ray, z) && z <= road_range;
     if (edge && depth)
       P = q.cast<double>();
     else if (on_plane)
-      P = ray * (-plane.distance / den);
+      P = ray * z;
     else if (depth)
       P = q.cast<double>();
     else
@@ -376,16 +379,15 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       if (!(q.z() > 0.1f)) continue;
       if (frame.toRoad(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
       m.points.push_back(q);
-      m.pixels.emplace_back(static_cast<float>(in.K.fx * q.x() / q.z() + in.K.cx),
-                            static_cast<float>(in.K.fy * q.y() / q.z() + in.K.cy));
+      m.pixels.emplace_back(in.K.project(q));
       m.scores.push_back(m.peak_score);
     }
     m.num_valid_points = static_cast<int>(m.points.size());
     m.found = m.num_valid_points >= p.min_marker_points;
     if (!m.found) continue;
     m.kind = kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
-    const double support = 1.0 - std::exp(-tracker_.frames(i) / kSupportFrames);
-    const double fresh = std::pow(kAgeDecay, tracker_.age(i));
+    const double support = 1.0 - std::exp(-tracker_.frames(i) / kConfidenceFrames);
+    const double fresh = std::pow(kConfidenceAgeDecay, tracker_.age(i));
     m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
   }
 
@@ -411,8 +413,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       for (const auto& q : c.road) {
         const Eigen::Vector3f P = frame.toCamera(q.x(), q.y()).cast<float>();
         m.points.push_back(P);
-        m.pixels.emplace_back(static_cast<float>(in.K.fx * P.x() / P.z() + in.K.cx),
-                              static_cast<float>(in.K.fy * P.y() / P.z() + in.K.cy));
+        m.pixels.emplace_back(in.K.project(P));
         m.scores.push_back(c.trace.peak_score);
       }
       m.num_valid_points = static_cast<int>(m.points.size());
@@ -479,10 +480,10 @@ void LaneFitter::snapToPlane(const Intrinsics& K, const PlaneEstimate& plane,
   // Markers are paint on the road: their 3D points are where their pixel rays meet the plane.
   m.num_valid_points = 0;
   for (size_t i = 0; i < m.pixels.size(); ++i) {
-    const Eigen::Vector3d ray((m.pixels[i].x - K.cx) / K.fx, (m.pixels[i].y - K.cy) / K.fy, 1.0);
-    const double denom = plane.normal.dot(ray);
-    const double t = denom < -1e-9 ? -plane.distance / denom : -1.0;
-    if (t > 0.0 && t * ray.z() <= params_.max_depth) {
+    const Eigen::Vector3d ray = K.ray(m.pixels[i].x, m.pixels[i].y);
+    double t = -1.0;
+    rayPlaneDepth(plane, ray, t);
+    if (t > 0.0 && t <= params_.max_depth) {  // (t: the depth, ray z = 1)
       m.points[i] = (ray * t).cast<float>();
       ++m.num_valid_points;
     } else {

@@ -31,8 +31,11 @@ constexpr double kResidualToStd = 1.25; // standard deviation / mean absolute re
 constexpr double kNextMin = 1.5;        // m: an outer line at least this far beyond its ego side
 constexpr double kNextMax = 6.0;        // m: ... and at most this far
 constexpr float kMemory = 0.7f;         // per-frame weight of the past in the smoothed evidence
-constexpr double kSupportFrames = 3.0;  // frames of evidence for a support of 1 - 1/e
-constexpr double kAgeDecay = 0.85;      // per frame without evidence
+// The evidence score of a boundary (calibratedConfidence() is fitted on it): frames of evidence
+// for a support of 1 - 1/e, and its factor per frame without evidence. Not the detector's
+// confidence of a tracked side (lane_fitter.cpp), which decays faster.
+constexpr double kEvidenceSupportFrames = 3.0;
+constexpr double kEvidenceAgeDecay = 0.85;
 constexpr double kResidualScale = 0.3;  // m
 constexpr double kCoverageMargin = 0.3; // paint coverage this far from dashed_coverage: a clear kind
 constexpr double kRangeScale = 10.0;    // m of published range for a span factor of 1 - 1/e
@@ -187,8 +190,8 @@ float LaneModelFilter::evidence(const Memory& m, double range) const {
   // each factor in [0, 1]: seen in several frames, seen lately, where the model puts it, by a
   // confident detector, of a clear kind (a firm paint / edge vote; paint coverage away from the
   // dashed / solid threshold), over a useful range
-  const double support = 1.0 - std::exp(-m.frames / kSupportFrames);
-  const double fresh = std::pow(kAgeDecay, m.age);
+  const double support = 1.0 - std::exp(-m.frames / kEvidenceSupportFrames);
+  const double fresh = std::pow(kEvidenceAgeDecay, m.age);
   const double fit = std::exp(-m.residual / kResidualScale);
   const double detector = 0.5 + 0.5 * m.detector_confidence;
   double kind = std::min(1.0, static_cast<double>(std::fabs(m.edge_vote)));

@@ -91,10 +91,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
   double searched = -1.0;               // road distance of the last row searched
   for (int y = r1 - 1; y >= r0; --y) {  // near to far
     // the road's distance on this row, and how finely the input image resolves it across
-    const double ry = ((rm ? rm[y] : y) - K.cy) / K.fy;
-    const double den = plane.normal.y() * ry + plane.normal.z();
-    if (!(den < -1e-9)) continue;
-    const double depth = -plane.distance / den;
+    double depth = 0.0;
+    if (!rayPlaneDepth(plane, K.ray(K.cx, rm ? rm[y] : y), depth)) continue;
     if (depth > s.max_range || K.fx / depth < s.min_pixels_per_metre) continue;
     // near the car rows are a centimetre apart: one in kRowSpacing of road is enough
     if (searched >= 0.0 && depth - searched < kRowSpacing) continue;
@@ -173,8 +171,7 @@ void RoadEdgeFinder::fitSide(const std::vector<RowEdge>& edges, const Intrinsics
   if (static_cast<int>(inliers_.size()) < kMinRows || far - near < kMinLength) return;
   for (int i : inliers_) {  // near to far (rows were searched bottom up)
     const Eigen::Vector3d P = frame.toCamera(edges[i].road.x(), edges[i].road.y());
-    out.pixels.emplace_back(static_cast<float>(K.fx * P.x() / P.z() + K.cx),
-                            static_cast<float>(K.fy * P.y() / P.z() + K.cy));
+    out.pixels.emplace_back(K.project(P));
     out.points.push_back(P.cast<float>());
   }
   out.offset = a;
