@@ -18,6 +18,7 @@ set(RLD_CORE_SOURCES
   src/core/sliding_box.cpp
   src/core/lane_plane.cpp
   src/core/lane_detector.cpp
+  src/core/pixel_kernels.cpp
   src/core/road_surface.cpp
   src/core/road_edge_finder.cpp
   src/core/boundary_classifier.cpp
@@ -54,4 +55,6 @@ set(RLD_CORE_TESTS
   test_allocations
   test_lane_model
   test_lane_grid
+  test_pixel_kernels
+  test_stage_timer
 )

@@ -1,6 +1,7 @@
 /**
  * @file boundary_candidates.h
- * @brief Stages 7-8: each side's candidate boundaries of one frame, and what each one is.
+ * @brief Stages 6-7: each side's candidate boundaries of one frame (seeds, PCA angles, traces),
+ * and what each one is (the classification, an improvement).
  *
  * The paper's search: the best match of each side's response map R is a seed, its PCA angle
  * the marker's direction, the sliding box its trace (METHOD.md section 3). The improved mode
