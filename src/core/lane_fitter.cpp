@@ -243,18 +243,38 @@ int LaneFitter::choose(int i, const LaneFitInput& in) {
 }
 
 void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
-  const Params& p = params_;
-  PlaneEstimate& plane = result.plane;
   TrackerParams tp;
-  tp.memory = p.track_memory;
-  tp.max_age = p.track_max_age;
-  tp.gate = p.track_gate;
-  tp.min_points = p.min_marker_points;
-
-  // The plane: the road surface from depth, else (marker plane modes) from the best seeds'
-  // depth; while the depth shows no road, the last plane for as long as a side lives.
-  const bool any_track = tracker_.valid(0) || tracker_.valid(1);
+  tp.memory = params_.track_memory;
+  tp.max_age = params_.track_max_age;
+  tp.gate = params_.track_gate;
+  tp.min_points = params_.min_marker_points;
+  PlaneEstimate& plane = result.plane;
   double road_range = in.road_range;
+  boundaryPlane(in, plane, road_range);
+  takeSeedMeasurements(in, result);
+  if (!plane.valid) {
+    tracker_.update(RoadFrame(), none_, none_, tp);  // ages the lane model
+    return;
+  }
+  smoothPlane(plane);
+  const RoadFrame frame = RoadFrame::fromPlane(plane);
+  std::array<int, 2> chosen = chooseBoundaries(in, plane, frame, road_range);
+  tracker_.update(frame, evidence_[0], evidence_[1], tp);
+  handOverCrossedSide(chosen);
+  reportSide(0, in, frame, road_range, chosen[0], tp.sample_step, result.left);
+  reportSide(1, in, frame, road_range, chosen[1], tp.sample_step, result.right);
+  reportOuterLines(in, frame, chosen, result);
+  dropImplausibleWidth(result);
+  requirePaint(result);
+  if (!result.left.found || !result.right.found) rejectIncomplete(result);
+}
+
+void LaneFitter::boundaryPlane(const LaneFitInput& in, PlaneEstimate& plane,
+                               double& road_range) {
+  // The road surface from depth, else (marker plane modes) the plane of the best seeds' depth;
+  // while the depth shows no road, the last plane for as long as a side lives.
+  const Params& p = params_;
+  const bool any_track = tracker_.valid(0) || tracker_.valid(1);
   if (p.plane_fit == PlaneFit::kRoadSurface) {
     // (RoadSurface checked it against the up axis it was fitted with: the vehicle's, when the
     // frame gives the camera's pose)
@@ -286,6 +306,9 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     plane.fit_method = static_cast<int>(p.plane_fit);
     road_range = std::max(road_range, 20.0);
   }
+}
+
+void LaneFitter::takeSeedMeasurements(const LaneFitInput& in, Result& result) const {
   MarkerTrace* sides[2] = {&result.left, &result.right};
   for (int i = 0; i < 2; ++i) {
     MarkerTrace& m = *sides[i];
@@ -299,15 +322,13 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       m.angle_valid = best.angle_valid;
     }
   }
-  if (!plane.valid) {
-    tracker_.update(RoadFrame(), none_, none_, tp);  // ages the lane model
-    return;
-  }
-  smoothPlane(plane);
-  const RoadFrame frame = RoadFrame::fromPlane(plane);
+}
 
-  // each side's boundary: the nearest usable candidate (the tracked one while it is seen)
-  int chosen[2] = {-1, -1};
+std::array<int, 2> LaneFitter::chooseBoundaries(const LaneFitInput& in, const PlaneEstimate& plane,
+                                                const RoadFrame& frame, double road_range) {
+  // each side's boundary: the nearest usable candidate (the tracked one while it is seen); its
+  // road points are the side's evidence (evidence_)
+  std::array<int, 2> chosen{{-1, -1}};
   for (int i = 0; i < 2; ++i) {
     evidence_[i].clear();
     std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
@@ -317,8 +338,12 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     for (const auto& q : cands[chosen[i]].road)
       evidence_[i].push_back(frame.toCamera(q.x(), q.y()).cast<float>());
   }
-  tracker_.update(frame, evidence_[0], evidence_[1], tp);
-  // A side whose marker passed under the vehicle (a lane change) is the other side's now.
+  return chosen;
+}
+
+void LaneFitter::handOverCrossedSide(std::array<int, 2>& chosen) {
+  // A side whose marker passed under the vehicle (a lane change) is the other side's now: the
+  // left marker to the right of the vehicle (y < 0), or the right one to its left.
   for (int i = 0; i < 2; ++i) {
     if (!tracker_.valid(i)) continue;
     const double crossed = (i == 0 ? -1.0 : 1.0) * tracker_.lateral(i, kCrossProbe);
@@ -332,65 +357,69 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     chosen[i] = -1;
     break;
   }
+}
 
-  for (int i = 0; i < 2; ++i) {
-    MarkerTrace& m = *sides[i];
-    if (!tracker_.valid(i)) {
-      kind_score_[i] = 0.f;
-      evidence_margin_[i] = 0.f;
-      continue;
-    }
-    // this frame's chosen line, also where the tracker's gate kept its points out (the tracked
-    // shape lags a turning vehicle): the lane model gates it against its own prediction
-    if (chosen[i] >= 0) m.measured.assign(evidence_[i].begin(), evidence_[i].end());
-    // a side seen in one frame only is not carried on: one frame's stray line is no boundary
-    if (tracker_.age(i) > 0 && !tracker_.established(i)) continue;
-    if (tracker_.age(i) == 0 && chosen[i] >= 0) {
-      // the side's kind: a decaying vote of its classified evidence (a new side starts over)
-      const BoundaryCandidate& c = (*in.candidates)[i][chosen[i]];
-      const float vote = c.evidence.kind == BoundaryKind::kPaint ? 1.f : -1.f;
-      const float w = 0.25f + c.evidence.margin;
-      if (tracker_.frames(i) <= 1) {
-        kind_score_[i] = vote * w;
-        evidence_margin_[i] = c.evidence.margin;
-      } else {
-        kind_score_[i] = kKindMemory * kind_score_[i] + vote * w;
-        evidence_margin_[i] = kKindMemory * evidence_margin_[i] + (1.f - kKindMemory) * c.evidence.margin;
-      }
-      m.seed = c.trace.seed;
-      m.seed_point = c.trace.seed_point;
-      m.peak_score = c.trace.peak_score;
-      m.angle = c.trace.angle;
-      m.angle_valid = c.trace.angle_valid;
-    }
-    // reported: the side's model over its evidence's range, within the plane's range; a road
-    // edge seen this frame where it was seen (a kerb need not run parallel to the paint, nor
-    // be straight: it curves into a corner, it steps at a driveway)
-    samples_.clear();
-    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0)
-      measuredEdge((*in.candidates)[i][chosen[i]].road, frame, samples_);
-    // (a road edge not as far beyond where it was seen as paint: kerbs end at driveways and
-    // intersections)
-    if (samples_.empty())
-      tracker_.sample(i, frame, tp.sample_step, samples_,
-                      kind_score_[i] < 0.f ? LaneTracker::kEdgeExtrapolation
-                                           : LaneTracker::kPaintExtrapolation);
-    for (const auto& q : samples_) {
-      if (!(q.z() > 0.1f)) continue;
-      if (frame.toRoad(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
-      m.points.push_back(q);
-      m.pixels.emplace_back(in.K.project(q));
-      m.scores.push_back(m.peak_score);
-    }
-    m.num_valid_points = static_cast<int>(m.points.size());
-    m.found = m.num_valid_points >= p.min_marker_points;
-    if (!m.found) continue;
-    m.kind = kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
-    const double support = 1.0 - std::exp(-tracker_.frames(i) / kConfidenceFrames);
-    const double fresh = std::pow(kConfidenceAgeDecay, tracker_.age(i));
-    m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
+void LaneFitter::reportSide(int i, const LaneFitInput& in, const RoadFrame& frame,
+                            double road_range, int chosen, double sample_step, MarkerTrace& m) {
+  if (!tracker_.valid(i)) {
+    kind_score_[i] = 0.f;
+    evidence_margin_[i] = 0.f;
+    return;
   }
+  // this frame's chosen line, also where the tracker's gate kept its points out (the tracked
+  // shape lags a turning vehicle): the lane model gates it against its own prediction
+  if (chosen >= 0) m.measured.assign(evidence_[i].begin(), evidence_[i].end());
+  // a side seen in one frame only is not carried on: one frame's stray line is no boundary
+  if (tracker_.age(i) > 0 && !tracker_.established(i)) return;
+  if (tracker_.age(i) == 0 && chosen >= 0) voteKind(i, (*in.candidates)[i][chosen], m);
+  // reported: the side's model over its evidence's range, within the plane's range; a road
+  // edge seen this frame where it was seen (a kerb need not run parallel to the paint, nor
+  // be straight: it curves into a corner, it steps at a driveway)
+  samples_.clear();
+  if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen >= 0)
+    measuredEdge((*in.candidates)[i][chosen].road, frame, samples_);
+  // (a road edge not as far beyond where it was seen as paint: kerbs end at driveways and
+  // intersections)
+  if (samples_.empty())
+    tracker_.sample(i, frame, sample_step, samples_,
+                    kind_score_[i] < 0.f ? LaneTracker::kEdgeExtrapolation
+                                         : LaneTracker::kPaintExtrapolation);
+  for (const auto& q : samples_) {
+    if (!(q.z() > 0.1f)) continue;
+    if (frame.toRoad(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
+    m.points.push_back(q);
+    m.pixels.emplace_back(in.K.project(q));
+    m.scores.push_back(m.peak_score);
+  }
+  m.num_valid_points = static_cast<int>(m.points.size());
+  m.found = m.num_valid_points >= params_.min_marker_points;
+  if (!m.found) return;
+  m.kind = kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
+  const double support = 1.0 - std::exp(-tracker_.frames(i) / kConfidenceFrames);
+  const double fresh = std::pow(kConfidenceAgeDecay, tracker_.age(i));
+  m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
+}
 
+void LaneFitter::voteKind(int i, const BoundaryCandidate& c, MarkerTrace& m) {
+  // the side's kind: a decaying vote of its classified evidence (a new side starts over)
+  const float vote = c.evidence.kind == BoundaryKind::kPaint ? 1.f : -1.f;
+  const float w = 0.25f + c.evidence.margin;
+  if (tracker_.frames(i) <= 1) {
+    kind_score_[i] = vote * w;
+    evidence_margin_[i] = c.evidence.margin;
+  } else {
+    kind_score_[i] = kKindMemory * kind_score_[i] + vote * w;
+    evidence_margin_[i] = kKindMemory * evidence_margin_[i] + (1.f - kKindMemory) * c.evidence.margin;
+  }
+  m.seed = c.trace.seed;
+  m.seed_point = c.trace.seed_point;
+  m.peak_score = c.trace.peak_score;
+  m.angle = c.trace.angle;
+  m.angle_valid = c.trace.angle_valid;
+}
+
+void LaneFitter::reportOuterLines(const LaneFitInput& in, const RoadFrame& frame,
+                                  const std::array<int, 2>& chosen, Result& result) const {
   // Lines beyond the ego boundaries: the next lanes' and the road edges, as seen this frame (the
   // nearest of each).
   double outer_offset[4] = {0.0, 0.0, 0.0, 0.0};
@@ -427,30 +456,32 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       m.angle_valid = c.trace.angle_valid;
     }
   }
+}
 
+void LaneFitter::dropImplausibleWidth(Result& result) const {
   // Two sides closer or farther apart than any lane: the less confident one is not reported.
-  if (result.left.found && result.right.found && p.lane_width_max > 0.0) {
-    const double width = tracker_.lateral(0, kWidthProbe) - tracker_.lateral(1, kWidthProbe);
-    if (!(width >= p.lane_width_min && width <= p.lane_width_max)) {
-      MarkerTrace& weaker = result.left.confidence < result.right.confidence ? result.left
-                                                                             : result.right;
-      weaker.found = false;
-      weaker.confidence = 0.0f;
-    }
-  }
+  const Params& p = params_;
+  if (!result.left.found || !result.right.found || !(p.lane_width_max > 0.0)) return;
+  const double width = tracker_.lateral(0, kWidthProbe) - tracker_.lateral(1, kWidthProbe);
+  if (width >= p.lane_width_min && width <= p.lane_width_max) return;
+  MarkerTrace& weaker = result.left.confidence < result.right.confidence ? result.left
+                                                                         : result.right;
+  weaker.found = false;
+  weaker.confidence = 0.0f;
+}
+
+void LaneFitter::requirePaint(Result& result) const {
   // A lane is marked by paint: a road edge bounds it where one side has none (a kerb, rails,
   // an unpainted edge beside a painted line), but road edges alone (a street without markings,
   // parked cars and kerbs) are no lane.
   const bool paint = (result.left.found && result.left.kind == BoundaryKind::kPaint) ||
                      (result.right.found && result.right.kind == BoundaryKind::kPaint);
-  if (!paint) {
-    for (MarkerTrace* m : {&result.left, &result.right}) {
-      m->found = false;
-      m->confidence = 0.0f;
-    }
-    for (MarkerTrace& m : result.outer) clearTrace(m);
+  if (paint) return;
+  for (MarkerTrace* m : {&result.left, &result.right}) {
+    m->found = false;
+    m->confidence = 0.0f;
   }
-  if (!result.left.found || !result.right.found) rejectIncomplete(result);
+  for (MarkerTrace& m : result.outer) clearTrace(m);
 }
 
 // --- shared checks -------------------------------------------------------------------------
