@@ -25,6 +25,7 @@ set(RLD_CORE_SOURCES
   src/core/boundary_candidates.cpp
   src/core/lane_fitter.cpp
   src/core/lane_model.cpp
+  src/core/lane_model_evidence.cpp
   src/core/lane_grid.cpp
   src/core/lane_tracker.cpp
   src/core/overlay.cpp

@@ -108,6 +108,11 @@ class LaneModelFilter {
   using Cov = Eigen::Matrix<double, 7, 7>;
   using Row = Eigen::Matrix<double, 1, 7>;
   static constexpr int kStations = 10;       ///< stations kept per observation
+  /// BoundaryPosition p: even on the left, odd on the right; 0 and 1 the ego lane's.
+  static bool isLeft(int p) { return p % 2 == 0; }
+  static bool isEgo(int p) { return p < 2; }
+  /// The ego boundary on p's side.
+  static int egoOf(int p) { return isLeft(p) ? 0 : 1; }
   static constexpr int kMaxPoints = 2048;    ///< points of an observation used (thinned beyond)
 
   /// One observation in the vehicle frame: up to kStations (x, y) samples, near to far.
@@ -164,7 +169,8 @@ class LaneModelFilter {
   void remember(const Track& t, int p, double residual);
   void relabel(int direction);
   void fill(LaneModelEstimate& model) const;
-  /// Uncalibrated evidence in [0, 1] of a boundary with memory @p m published over @p range m.
+  /// Uncalibrated evidence in [0, 1] of a boundary with memory @p m published over @p range m
+  /// (this and remember(), fill(): lane_model_evidence.cpp).
   float evidence(const Memory& m, double range) const;
 
   LaneModelSettings settings_;
