@@ -24,6 +24,7 @@ set(RLD_CORE_SOURCES
   src/core/boundary_classifier.cpp
   src/core/boundary_candidates.cpp
   src/core/lane_fitter.cpp
+  src/core/lane_fitter_plane.cpp
   src/core/lane_model.cpp
   src/core/lane_model_evidence.cpp
   src/core/lane_grid.cpp
