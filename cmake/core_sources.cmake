@@ -23,6 +23,7 @@ set(RLD_CORE_SOURCES
   src/core/road_edge_finder.cpp
   src/core/boundary_classifier.cpp
   src/core/boundary_candidates.cpp
+  src/core/boundary_candidates_following.cpp
   src/core/lane_fitter.cpp
   src/core/lane_fitter_plane.cpp
   src/core/lane_model.cpp
