@@ -13,6 +13,7 @@ set(RLD_CORE_SOURCES
   src/core/fals_normals.cpp
   src/core/line_template.cpp
   src/core/template_matching.cpp
+  src/core/template_matching_terms.cpp
   src/core/response_map.cpp
   src/core/pca_refinement.cpp
   src/core/sliding_box.cpp
