@@ -19,6 +19,7 @@ set(RLD_CORE_SOURCES
   src/core/sliding_box.cpp
   src/core/lane_plane.cpp
   src/core/lane_detector.cpp
+  src/core/processing_image.cpp
   src/core/pixel_kernels.cpp
   src/core/road_surface.cpp
   src/core/road_edge_finder.cpp
