@@ -22,48 +22,28 @@ constexpr double kResidualScale = 0.3;  // m
 constexpr double kCoverageMargin = 0.3; // paint coverage this far from dashed_coverage: a clear kind
 constexpr double kRangeScale = 10.0;    // m of published range for a span factor of 1 - 1/e
 
+// The name of enum value @p i in @p names (indexed by value; static text), "unknown" outside.
+template <size_t N>
+const char* nameOf(const char* const (&names)[N], int i) {
+  return i >= 0 && i < static_cast<int>(N) ? names[i] : "unknown";
+}
+
 }  // namespace
 
 const char* boundaryPositionName(BoundaryPosition p) {
-  switch (p) {
-    case BoundaryPosition::kEgoLeft:
-      return "ego_left";
-    case BoundaryPosition::kEgoRight:
-      return "ego_right";
-    case BoundaryPosition::kNextLeft:
-      return "next_left";
-    case BoundaryPosition::kNextRight:
-      return "next_right";
-    case BoundaryPosition::kRoadEdgeLeft:
-      return "road_edge_left";
-    case BoundaryPosition::kRoadEdgeRight:
-      return "road_edge_right";
-  }
-  return "unknown";
+  static constexpr const char* kNames[] = {"ego_left",  "ego_right",      "next_left",
+                                           "next_right", "road_edge_left", "road_edge_right"};
+  return nameOf(kNames, static_cast<int>(p));
 }
 
 const char* lineKindName(LineKind k) {
-  switch (k) {
-    case LineKind::kSolid:
-      return "solid";
-    case LineKind::kDashed:
-      return "dashed";
-    case LineKind::kRoadEdge:
-      return "road_edge";
-    default:
-      return "unknown";
-  }
+  static constexpr const char* kNames[] = {"unknown", "solid", "dashed", "road_edge"};
+  return nameOf(kNames, static_cast<int>(k));
 }
 
 const char* lineColourName(LineColour c) {
-  switch (c) {
-    case LineColour::kWhite:
-      return "white";
-    case LineColour::kYellow:
-      return "yellow";
-    default:
-      return "unknown";
-  }
+  static constexpr const char* kNames[] = {"unknown", "white", "yellow"};
+  return nameOf(kNames, static_cast<int>(c));
 }
 
 float calibratedConfidence(float evidence) {
