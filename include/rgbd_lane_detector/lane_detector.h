@@ -132,8 +132,20 @@ class LaneDetector {
   /// the camera's pose, held over a fit that jumps from the last plane, extended toward the
   /// camera where depth is missing (fillFromRoadPlane()).
   void fitRoadSurface(const Frame& frame);
-  /// 3.-5. Normals and G, template matching, the plane gate, R.
+  /// 3.-5. Normals and G, template matching, the plane gate, R: the steps below.
   void computeResponses();
+  /// 3. Normals and G, everywhere or (@p mask) only where G enters R.
+  void computeGeometric(const cv::Mat* mask);
+  /// 4. NCC matching with the templates (and the acquisition templates of the sides that acquire).
+  void matchTemplates();
+  /// plane_gate: matches off the previous frame's plane removed (applyPlaneGate()).
+  void gateByPlane();
+  /// Where G enters R (fusionMask()).
+  void maskFusion();
+  /// 5. R of every matched map.
+  void fuseResponses();
+  /// A side acquires this frame (its acquisition template is matched too).
+  bool acquiring() const { return acquiring_[0] || acquiring_[1]; }
   /// 6.-7. Each side's seeds, PCA angles and traced lines (BoundaryCandidateFinder).
   void traceCandidates(const Frame& frame);
   /// What each traced line is: paint, road edge or no boundary (improved mode).

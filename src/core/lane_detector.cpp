@@ -210,30 +210,8 @@ void LaneDetector::computePoints(const Frame& frame) {
 }
 
 void LaneDetector::computeResponses() {
-  const Params& p = params_;
-  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept), for every pixel or
-  // (mask given) only where G enters R.
-  auto normals = [&](const cv::Mat* mask) {
-    const StageTimer timer(timings_.normals);
-    fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
-    if (mask)
-      fals_.computeGeometric(points_, roi_rows_, p, *mask, geometric_);
-    else
-      fals_.computeGeometric(points_, roi_rows_, p, geometric_);
-  };
-  // 4. matching, with the acquisition templates too for the sides that acquire
-  const bool acquisition = acquiring_[0] || acquiring_[1];
-  auto matching = [&] {
-    const StageTimer timer(timings_.matching);
-    matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
-                   response_right_);
-    if (acquisition)
-      acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
-                                 acquisition_response_left_, acquisition_response_right_);
-  };
-
-  if (!p.use_depth) {
-    matching();
+  if (!params_.use_depth) {  // without depth, R = M
+    matchTemplates();
     if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
       geometric_.create(proc_size_, CV_32FC1);
       geometric_.setTo(0);
@@ -245,45 +223,73 @@ void LaneDetector::computeResponses() {
   if (full_geometric_) {
     // G everywhere does not depend on M: 3 and 4 on two cores when OpenCV may use two threads
     // (each timing is then its own stage's, and they overlap)
-    runPair([&] { normals(nullptr); }, matching);
+    runPair([this] { computeGeometric(nullptr); }, [this] { matchTemplates(); });
   } else {
-    matching();
+    matchTemplates();
   }
-  if (p.plane_gate > 0.0 && fitter_.previousPlane().valid) {
-    // (a match off the lane plane is no road marking; only what can become a seed, a PCA
-    // region or a trace is looked at: below tau_G, R = M)
-    const StageTimer timer(timings_.response);
-    const PlaneEstimate& previous = fitter_.previousPlane();
-    const float max_off = static_cast<float>(p.plane_gate);
-    const float gate_tau =
-        static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
-    applyPlaneGate(points_, roi_rows_, previous, max_off, gate_tau, response_left_,
-                   response_right_);
-    if (acquisition)
-      applyPlaneGate(points_, roi_rows_, previous, max_off, gate_tau, acquisition_response_left_,
-                     acquisition_response_right_);
-  }
-  const float tau = static_cast<float>(p.tau_g);
+  if (params_.plane_gate > 0.0 && fitter_.previousPlane().valid) gateByPlane();
   if (!full_geometric_) {
     // R needs G only where M >= tau_G (about 1% of the pixels of a road): G there only, which
     // saves most of the normals stage
-    {
-      const StageTimer timer(timings_.normals);
-      if (acquisition)
-        fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
-                    &acquisition_response_right_},
-                   tau, roi_rows_, fusion_mask_);
-      else
-        fusionMask({&response_left_, &response_right_}, tau, roi_rows_, fusion_mask_);
-    }
-    normals(&fusion_mask_);
+    maskFusion();
+    computeGeometric(&fusion_mask_);
   }
+  fuseResponses();
+}
 
+void LaneDetector::computeGeometric(const cv::Mat* mask) {
+  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept), for every pixel or
+  // (mask given) only where G enters R.
+  const StageTimer timer(timings_.normals);
+  fals_.configure(proc_size_, proc_K_, params_.normal_window, col_map_, row_map_);
+  if (mask)
+    fals_.computeGeometric(points_, roi_rows_, params_, *mask, geometric_);
+  else
+    fals_.computeGeometric(points_, roi_rows_, params_, geometric_);
+}
+
+void LaneDetector::matchTemplates() {
+  // 4. matching, with the acquisition templates too for the sides that acquire
+  const StageTimer timer(timings_.matching);
+  matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
+                 response_right_);
+  if (acquiring())
+    acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
+                               acquisition_response_left_, acquisition_response_right_);
+}
+
+void LaneDetector::gateByPlane() {
+  // a match off the lane plane is no road marking; only what can become a seed, a PCA region or
+  // a trace is looked at (below tau_G, R = M)
+  const StageTimer timer(timings_.response);
+  const Params& p = params_;
+  const PlaneEstimate& previous = fitter_.previousPlane();
+  const float max_off = static_cast<float>(p.plane_gate);
+  const float tau = static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
+  applyPlaneGate(points_, roi_rows_, previous, max_off, tau, response_left_, response_right_);
+  if (acquiring())
+    applyPlaneGate(points_, roi_rows_, previous, max_off, tau, acquisition_response_left_,
+                   acquisition_response_right_);
+}
+
+void LaneDetector::maskFusion() {
+  const StageTimer timer(timings_.normals);
+  const float tau = static_cast<float>(params_.tau_g);
+  if (acquiring())
+    fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
+                &acquisition_response_right_},
+               tau, roi_rows_, fusion_mask_);
+  else
+    fusionMask({&response_left_, &response_right_}, tau, roi_rows_, fusion_mask_);
+}
+
+void LaneDetector::fuseResponses() {
   // 5. R
   const StageTimer timer(timings_.response);
+  const float tau = static_cast<float>(params_.tau_g);
   fuseResponse(response_left_, geometric_, tau, roi_rows_, response_left_);
   fuseResponse(response_right_, geometric_, tau, roi_rows_, response_right_);
-  if (acquisition) {
+  if (acquiring()) {
     fuseResponse(acquisition_response_left_, geometric_, tau, roi_rows_,
                  acquisition_response_left_);
     fuseResponse(acquisition_response_right_, geometric_, tau, roi_rows_,
