@@ -14,11 +14,14 @@ set(RLD_CORE_SOURCES
   src/core/fals_normal_at.cpp
   src/core/line_template.cpp
   src/core/template_matching.cpp
+  src/core/template_matching_terms.cpp
   src/core/response_map.cpp
   src/core/pca_refinement.cpp
   src/core/sliding_box.cpp
   src/core/lane_plane.cpp
   src/core/lane_detector.cpp
+  src/core/processing_image.cpp
+  src/core/pixel_kernels.cpp
   src/core/road_surface.cpp
   src/core/road_edge_finder.cpp
   src/core/row_statistics.cpp
@@ -27,8 +30,11 @@ set(RLD_CORE_SOURCES
   src/core/line_follower.cpp
   src/core/boundary_classifier.cpp
   src/core/boundary_candidates.cpp
+  src/core/boundary_candidates_following.cpp
   src/core/lane_fitter.cpp
+  src/core/lane_fitter_plane.cpp
   src/core/lane_model.cpp
+  src/core/lane_model_evidence.cpp
   src/core/lane_grid.cpp
   src/core/lane_tracker.cpp
   src/core/overlay.cpp
@@ -64,4 +70,6 @@ set(RLD_CORE_TESTS
   test_allocations
   test_lane_model
   test_lane_grid
+  test_pixel_kernels
+  test_stage_timer
 )

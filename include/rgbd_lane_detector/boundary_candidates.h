@@ -1,6 +1,7 @@
 /**
  * @file boundary_candidates.h
- * @brief Stages 7-8: each side's candidate boundaries of one frame, and what each one is.
+ * @brief Stages 6-7: each side's candidate boundaries of one frame (seeds, PCA angles, traces),
+ * and what each one is (the classification, an improvement).
  *
  * The paper's search: the best match of each side's response map R is a seed, its PCA angle
  * the marker's direction, the sliding box its trace (METHOD.md section 3). The improved mode
@@ -140,7 +141,7 @@ class BoundaryCandidateFinder {
   /// lateral(forward) (road-plane coordinates of @p frame) over most of its points.
   template <typename Lateral>
   bool candidateOnLine(const CandidateFrame& f, int side, BoundaryKind kind,
-                       const PlaneFrame& frame, double reach, Lateral&& lateral) const;
+                       const RoadFrame& frame, double reach, Lateral&& lateral) const;
   /// A tracked painted side is also sought where its model predicts it, row by row: the
   /// template's seeds can miss a line whose image angle changes fast (a lane change).
   void followPredictedLines(const CandidateFrame& f);

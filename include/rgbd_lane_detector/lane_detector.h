@@ -119,25 +119,49 @@ class LaneDetector {
   const LineTemplate& rightTemplate() const { return right_template_; }
 
  private:
-  // the stages of detect(), in order
-  void prepareGeometry(const Frame& frame);
+  /// The stages of a validated frame, in order; each times itself (StageTimer into timings_).
+  void runStages(const Frame& frame, Result& result);
+  /// The processing image's geometry (prepareGeometry()), the templates of this frame, the
+  /// sides that acquire.
+  void prepareFrame(const Frame& frame);
+  /// 1. The half-binary image (and the classifier's grey).
   void preprocess(const Frame& frame);
+  /// 2. Organised 3D points of the searched rows.
   void computePoints(const Frame& frame);
   /// The road plane from depth (improved mode), near the vehicle's up axis when the frame gives
   /// the camera's pose, held over a fit that jumps from the last plane, extended toward the
   /// camera where depth is missing (RoadSurface::extendToCamera()).
   void fitRoadSurface(const Frame& frame);
+  /// 3.-5. Normals and G, template matching, the plane gate, R: the steps below.
   void computeResponses();
-  /// The frame as the candidate search sees it (candidate_frame_).
-  const CandidateFrame& candidateFrame(const Frame& frame);
+  /// 3. Normals and G, everywhere or (@p mask) only where G enters R.
+  void computeGeometric(const cv::Mat* mask);
+  /// 4. NCC matching with the templates (and the acquisition templates of the sides that acquire).
+  void matchTemplates();
+  /// plane_gate: matches off the previous frame's plane removed (applyPlaneGate()).
+  void gateByPlane();
+  /// Where G enters R (fusionMask()).
+  void maskFusion();
+  /// 5. R of every matched map.
+  void fuseResponses();
+  /// A side acquires this frame (its acquisition template is matched too).
+  bool acquiring() const { return acquiring_[0] || acquiring_[1]; }
+  /// 6.-7. Each side's seeds, PCA angles and traced lines (BoundaryCandidateFinder).
+  void traceCandidates(const Frame& frame);
+  /// What each traced line is: paint, road edge or no boundary (improved mode).
+  void classifyCandidates();
+  /// 8. The lane plane and boundaries (LaneFitter).
+  void fitLane(Result& result);
   /// Paint coverage (dashed / solid) and colour of every reported painted boundary.
   void measurePaint(const Frame& frame, Result& result);
   /// lane_model: the Kalman filter of the lane in the vehicle frame.
   void updateLaneModel(const Frame& frame, Result& result);
   void finish(Result& result);
 
+  void prepareGeometry(const Frame& frame);
+  /// The frame as the candidate search sees it (candidate_frame_).
+  const CandidateFrame& candidateFrame(const Frame& frame);
   void resampleColour(const Frame& frame);
-  void applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat& right);
   void updateTemplates(const Result& result);
 
   Params params_;

@@ -27,10 +27,10 @@ namespace rgbd_lane_detector {
 struct BoundaryCandidate {
   MarkerTrace trace;           ///< seed, angle, centroids (input pixels), scores, depth points
   BoundaryEvidence evidence;   ///< kind, or not a boundary
-  std::vector<Eigen::Vector2d> road;  ///< (forward, lateral) of its points in the road plane
-  double offset = 0.0;         ///< lateral offset of its line at the camera (m, + right)
-  double lateral = 0.0;        ///< median lateral position of its points (m, + right): where it is
-  double heading = 0.0;        ///< its direction in the road plane (rad, + toward the right)
+  std::vector<Eigen::Vector2d> road;  ///< (forward, lateral) of its points (RoadFrame x, y)
+  double offset = 0.0;         ///< lateral offset of its line at the camera (m, + left)
+  double lateral = 0.0;        ///< median lateral position of its points (m, + left): where it is
+  double heading = 0.0;        ///< its direction in the road plane (rad, + toward the left)
   bool usable = false;         ///< a boundary on its side, in range, along the road
 };
 
@@ -82,12 +82,37 @@ class LaneFitter {
    * @param[in] left side of the candidate.
    * @param[in,out] c candidate (trace and evidence in; road, offset, heading, usable out).
    */
-  void measure(const Intrinsics& K, const PlaneEstimate& plane, const PlaneFrame& frame,
+  void measure(const Intrinsics& K, const PlaneEstimate& plane, const RoadFrame& frame,
                double road_range, bool left, BoundaryCandidate& c) const;
 
  private:
   void fitMarkerPlane(const LaneFitInput& in, Result& result);
+  /// Improved mode: the steps below, in order.
   void fitBoundaries(const LaneFitInput& in, Result& result);
+  /// The plane the boundaries lie on: the road surface from depth, else the best seeds' plane,
+  /// else the last plane while a side is tracked (invalid: none); @p road_range is where it holds.
+  void boundaryPlane(const LaneFitInput& in, PlaneEstimate& plane, double& road_range);
+  /// Each side cleared, with its best seed's image measurements (templates, overlays).
+  void takeSeedMeasurements(const LaneFitInput& in, Result& result) const;
+  /// Each side's candidates measured on the plane and its boundary chosen (index, or -1), its
+  /// road points the side's evidence (evidence_).
+  std::array<int, 2> chooseBoundaries(const LaneFitInput& in, const PlaneEstimate& plane,
+                                      const RoadFrame& frame, double road_range);
+  /// A tracked side whose marker passed under the vehicle (a lane change) becomes the other side.
+  void handOverCrossedSide(std::array<int, 2>& chosen);
+  /// Side @p i reported in @p m: its kind vote, its points (the tracked model, or a road edge
+  /// where it was seen) and its confidence.
+  void reportSide(int i, const LaneFitInput& in, const RoadFrame& frame, double road_range,
+                  int chosen, double sample_step, MarkerTrace& m);
+  /// Side @p i's kind vote and margin updated with its chosen candidate @p c, whose seed @p m takes.
+  void voteKind(int i, const BoundaryCandidate& c, MarkerTrace& m);
+  /// The next lanes' lines and the road edges beyond the chosen boundaries (result.outer).
+  void reportOuterLines(const LaneFitInput& in, const RoadFrame& frame,
+                        const std::array<int, 2>& chosen, Result& result) const;
+  /// Two sides closer or farther apart than any lane: the less confident one is dropped.
+  void dropImplausibleWidth(Result& result) const;
+  /// Road edges alone are no lane: nothing is reported without a painted side.
+  void requirePaint(Result& result) const;
   /// Index of the candidate chosen as side @p i's boundary this frame, or -1.
   int choose(int i, const LaneFitInput& in);
   bool planePlausible(const PlaneEstimate& plane) const;
@@ -100,7 +125,7 @@ class LaneFitter {
   /// A road edge seen this frame on its own points @p road (forward, lateral): their robust
   /// quadratic curve over their range, 40 points near to far in @p out (camera frame; empty
   /// when fewer than 5 points fit it).
-  void measuredEdge(const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+  void measuredEdge(const std::vector<Eigen::Vector2d>& road, const RoadFrame& frame,
                     std::vector<Eigen::Vector3f>& out) const;
 
   Params params_;

@@ -5,8 +5,8 @@
  * last stage, after the detector's per-frame boundaries).
  *
  * Vehicle frame (REP-103): x forward, y left, z up, origin on the road under the vehicle
- * reference point (base_link, or the road-aligned frame under the camera: see
- * roadAlignedFrame()). Each boundary is y(x) = c0 + c1 x + c2 x^2 + c3 x^3 over [x_min, x_max]:
+ * reference point (base_link, or the road-aligned frame under the camera:
+ * RoadFrame::roadFromCamera(), geometry.h). Each boundary is y(x) = c0 + c1 x + c2 x^2 + c3 x^3 over [x_min, x_max]:
  * c0 its lateral offset at the vehicle (m, + left), atan(c1) its heading relative to the
  * vehicle's x axis, 2 c2 its curvature at x = 0 (1/m, + turning left; c2 is the raw x^2
  * coefficient, half the curvature, as in Apollo's LaneMarker), 6 c3 the curvature's rate of
@@ -46,6 +46,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
@@ -107,6 +108,11 @@ class LaneModelFilter {
   using Cov = Eigen::Matrix<double, 7, 7>;
   using Row = Eigen::Matrix<double, 1, 7>;
   static constexpr int kStations = 10;       ///< stations kept per observation
+  /// BoundaryPosition p: even on the left, odd on the right; 0 and 1 the ego lane's.
+  static bool isLeft(int p) { return p % 2 == 0; }
+  static bool isEgo(int p) { return p < 2; }
+  /// The ego boundary on p's side.
+  static int egoOf(int p) { return isLeft(p) ? 0 : 1; }
   static constexpr int kMaxPoints = 2048;    ///< points of an observation used (thinned beyond)
 
   /// One observation in the vehicle frame: up to kStations (x, y) samples, near to far.
@@ -163,7 +169,8 @@ class LaneModelFilter {
   void remember(const Track& t, int p, double residual);
   void relabel(int direction);
   void fill(LaneModelEstimate& model) const;
-  /// Uncalibrated evidence in [0, 1] of a boundary with memory @p m published over @p range m.
+  /// Uncalibrated evidence in [0, 1] of a boundary with memory @p m published over @p range m
+  /// (this and remember(), fill(): lane_model_evidence.cpp).
   float evidence(const Memory& m, double range) const;
 
   LaneModelSettings settings_;
@@ -188,14 +195,5 @@ class LaneModelFilter {
  * @return the confidence, in [0, 1].
  */
 float calibratedConfidence(float evidence);
-
-/**
- * @brief The road-aligned frame under the camera, the vehicle frame when no base_link is known:
- * origin where the camera's vertical meets the road plane, z the plane's normal (up), x the
- * camera's optical axis projected onto the plane (forward), y = z x x (left).
- * @param[in] plane road plane in the optical frame (valid).
- * @return pose of the camera optical frame in that frame (identity for an invalid plane).
- */
-Eigen::Isometry3d roadAlignedFrame(const PlaneEstimate& plane);
 
 }  // namespace rgbd_lane_detector

@@ -5,7 +5,7 @@
  *
  * A dashed marker often shows no paint near the car, or a single far dash that yields a few
  * traced points: frame by frame the side is then lost. The two boundaries of the ego lane are
- * modelled in the road plane as curves lateral_i(f) = a_i + b_i f + c_i f^2 over the forward
+ * modelled in the road plane (RoadFrame, y left) as curves lateral_i(f) = a_i + b_i f + c_i f^2 over the forward
  * distance f, estimated by recursive least squares with exponential forgetting from the traced
  * points of the recent frames. The two sides' shapes (b_i, c_i) are tied by a soft prior that
  * they are parallel: a side with little evidence (one short dash) takes its shape from the
@@ -20,32 +20,15 @@
 
 #include <Eigen/Core>
 
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
 
-/// Road-plane coordinates: origin below the camera, forward (optical axis projected into the
-/// plane) and lateral (right) axes.
-struct PlaneFrame {
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  Eigen::Vector3d forward = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d lateral = Eigen::Vector3d::UnitX();
-  bool valid = false;
-
-  /// Frame of a valid plane (invalid when the optical axis is perpendicular to the plane).
-  static PlaneFrame fromPlane(const PlaneEstimate& plane);
-  /// (forward, lateral) of a camera-frame point.
-  Eigen::Vector2d toPlane(const Eigen::Vector3d& p) const {
-    const Eigen::Vector3d q = p - origin;
-    return Eigen::Vector2d(forward.dot(q), lateral.dot(q));
-  }
-  /// Camera-frame point of plane coordinates.
-  Eigen::Vector3d toCamera(double f, double l) const { return origin + f * forward + l * lateral; }
-};
-
 /**
  * @brief Robust straight line lateral = a + b forward through road-plane points (forward,
- * lateral): least squares, then twice more over the points within @p gate of the last line.
+ * lateral: RoadFrame's x, y): least squares, then twice more over the points within @p gate of
+ * the last line.
  * @param[in] points (forward, lateral) points.
  * @param[in] gate inlier distance of the refits (m).
  * @param[out] a,b the line.
@@ -84,7 +67,7 @@ class LaneTracker {
   int age(int i) const { return sides_[i].age; }
   /// Frames with evidence of side @p i since its model started.
   int frames(int i) const { return sides_[i].frames; }
-  /// Lateral position of side @p i at forward distance @p f (m).
+  /// Lateral position (RoadFrame y, + left) of side @p i at forward distance @p f (m).
   double lateral(int i, double f) const;
 
   /**
@@ -94,12 +77,12 @@ class LaneTracker {
    * sideways speed of the recent frames (a lane change, a drift: a side without evidence follows
    * it), then by the median disagreement of this frame's points with the established model
    * (which also updates that speed), then the points that pass the gate are added.
-   * @param[in] frame plane frame of this frame's lane plane (invalid: no evidence, sides age).
+   * @param[in] frame road frame of this frame's lane plane (invalid: no evidence, sides age).
    * @param[in] left,right traced 3D points of each side (non-finite entries skipped; empty: no
    *            evidence for that side).
    * @param[in] params settings.
    */
-  void update(const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& left,
+  void update(const RoadFrame& frame, const std::vector<Eigen::Vector3f>& left,
               const std::vector<Eigen::Vector3f>& right, const TrackerParams& params);
 
   /// sample()'s @p beyond for a painted line (m): it continues past where it was seen.
@@ -113,12 +96,12 @@ class LaneTracker {
    * past the side's own evidence at either end, spaced uniformly in 1/f (about uniformly in
    * image rows, like traced centroids). Nothing when that range is shorter than 2 m.
    * @param[in] i side.
-   * @param[in] frame plane frame to express them in.
+   * @param[in] frame road frame to express them in.
    * @param[in] step nominal spacing (m).
    * @param[out] out camera-frame points, near to far (cleared first).
    * @param[in] beyond how far past its own evidence a side is reported (m).
    */
-  void sample(int i, const PlaneFrame& frame, double step, std::vector<Eigen::Vector3f>& out,
+  void sample(int i, const RoadFrame& frame, double step, std::vector<Eigen::Vector3f>& out,
               double beyond = kPaintExtrapolation) const;
 
  private:

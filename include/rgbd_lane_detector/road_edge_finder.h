@@ -20,6 +20,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/lane_tracker.h"
 #include "rgbd_lane_detector/types.h"
 
@@ -42,8 +43,8 @@ struct RoadEdgeLine {
   bool found = false;
   std::vector<cv::Point2f> pixels;      ///< input image, near to far
   std::vector<Eigen::Vector3f> points;  ///< optical frame (the step's foot on the road plane)
-  double offset = 0.0;                  ///< lateral offset at the camera (m, + right)
-  double heading = 0.0;                 ///< direction in the road plane (rad, + toward the right)
+  double offset = 0.0;                  ///< lateral offset at the camera (m, + left)
+  double heading = 0.0;                 ///< direction in the road plane (rad, + toward the left)
 };
 
 /**
@@ -73,10 +74,10 @@ class RoadEdgeFinder {
  private:
   /// One row's edge of one side: its foot in road coordinates.
   struct RowEdge {
-    Eigen::Vector2d road;  ///< (forward, lateral)
+    Eigen::Vector2d road;  ///< (forward, lateral): RoadFrame x, y
   };
   /// The side's edge: the rows' edges on a robust straight line along the road.
-  void fitSide(const std::vector<RowEdge>& edges, const Intrinsics& K, const PlaneFrame& frame,
+  void fitSide(const std::vector<RowEdge>& edges, const Intrinsics& K, const RoadFrame& frame,
                const RoadEdgeSettings& s, bool left, RoadEdgeLine& out);
 
   std::vector<RowEdge> edges_[2];

@@ -77,7 +77,7 @@ struct Frame {
   double depth_scale = 0.001;           ///< metres per unit of a CV_16UC1 depth image
   Intrinsics intrinsics;                ///< of the colour camera; depth is registered to it
   /// Pose of the colour optical frame in the vehicle frame (base_link, REP-103) for the lane
-  /// model; without it the road-aligned frame under the camera is used (roadAlignedFrame()).
+  /// model; without it the road-aligned frame under the camera is used (RoadFrame).
   bool has_vehicle_frame = false;
   Eigen::Isometry3d vehicle_from_camera = Eigen::Isometry3d::Identity();
 };

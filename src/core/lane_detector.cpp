@@ -1,7 +1,9 @@
+// The detector facade: its parameters and carried state, the stages of a frame in order
+// (runStages()) and each stage's use of the core. The processing image (scale, maps, ROI) and
+// the validation of a frame: processing_image.cpp.
 #include "rgbd_lane_detector/lane_detector.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -13,69 +15,18 @@
 #include "rgbd_lane_detector/lane_plane.h"
 #include "rgbd_lane_detector/parallel.h"
 #include "rgbd_lane_detector/pca_refinement.h"
+#include "rgbd_lane_detector/pixel_kernels.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/sliding_box.h"
+#include "rgbd_lane_detector/stage_timer.h"
 
 namespace rgbd_lane_detector {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-constexpr double kLeastResample = 0.8;    // the automatic scale resamples below this only
 constexpr int kPlaneHoldFrames = 5;       // frames the last plane is kept over jumping fits
 constexpr double kPlaneDropPerDeg = 0.05; // m of height change per degree of plane_max_change_deg
 
-double msSince(Clock::time_point& t) {
-  const Clock::time_point now = Clock::now();
-  const double ms = std::chrono::duration<double, std::milli>(now - t).count();
-  t = now;
-  return ms;
-}
-
-int colourChannels(PixelFormat f) {
-  switch (f) {
-    case PixelFormat::kBgr8:
-    case PixelFormat::kRgb8:
-      return 3;
-    case PixelFormat::kBgra8:
-    case PixelFormat::kRgba8:
-      return 4;
-    case PixelFormat::kMono8:
-      return 1;
-  }
-  return 0;
-}
-
-// Resample rows/columns through index maps (nearest neighbour), no allocation when sized.
-template <typename T>
-void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row_map, int elem,
-                  cv::Mat& dst) {
-  const int* cm = col_map.ptr<int>();
-  const int* rm = row_map.ptr<int>();
-  for (int y = 0; y < dst.rows; ++y) {
-    const T* s = src.ptr<T>(rm[y]);
-    T* d = dst.ptr<T>(y);
-    for (int x = 0; x < dst.cols; ++x)
-      for (int c = 0; c < elem; ++c) d[x * elem + c] = s[cm[x] * elem + c];
-  }
-}
-
 }  // namespace
-
-double processingScale(const Params& params, const cv::Size& size, const Intrinsics& intrinsics) {
-  if (params.processing_scale > 0.0) return params.processing_scale;
-  constexpr double kLineWidth = 0.10;   // m, a narrow lane line
-  constexpr double kNearWidthPx = 24.0; // its width at the bottom row the templates suit
-  const double below = size.height - 1 - intrinsics.cy;
-  const double near_px = kLineWidth * below / std::max(0.2, params.camera_height);
-  if (!(near_px > kNearWidthPx)) return 1.0;  // also: cy at or below the bottom row
-  // a processing image of at least 64 px a side (the templates must fit)
-  const double floor_scale = 64.0 / std::max(1, std::min(size.width, size.height));
-  const double scale = std::max(std::min(1.0, floor_scale), kNearWidthPx / near_px);
-  // resampling costs a pass over the input and the classifier's grey at full size: shrinking
-  // by less than a fifth saves less than that
-  return scale > kLeastResample ? 1.0 : scale;
-}
 
 LaneDetector::LaneDetector(const Params& params) { setParams(params); }
 
@@ -116,11 +67,10 @@ Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,
   // refuse is refused here, before anything is allocated.
   if (size.width <= 0 || size.height <= 0) return Status::kEmptyImage;
   if (!intrinsics.valid()) return Status::kInvalidIntrinsics;
-  static const int kTypes[] = {CV_8UC3, CV_8UC3, CV_8UC4, CV_8UC4, CV_8UC1};
   Frame f;
   f.format = format;
   f.intrinsics = intrinsics;
-  f.colour.create(size, kTypes[static_cast<int>(format)]);
+  f.colour.create(size, CV_8UC(pixelLayout(format).channels));
   f.colour.setTo(cv::Scalar::all(90));
   f.depth.create(size, CV_32FC1);
   for (int v = 0; v < size.height; ++v) {
@@ -133,74 +83,7 @@ Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,
   return status;
 }
 
-Status LaneDetector::validate(const Frame& frame) const {
-  if (frame.colour.empty() || frame.depth.empty()) return Status::kEmptyImage;
-  if (frame.colour.size() != frame.depth.size()) return Status::kSizeMismatch;
-  if (frame.colour.depth() != CV_8U || frame.colour.channels() != colourChannels(frame.format))
-    return Status::kUnsupportedColour;
-  if (frame.depth.type() == CV_16UC1) {
-    if (!(frame.depth_scale > 0.0) || !std::isfinite(frame.depth_scale))
-      return Status::kUnsupportedDepth;
-  } else if (frame.depth.type() != CV_32FC1) {
-    return Status::kUnsupportedDepth;
-  }
-  if (!frame.intrinsics.valid()) return Status::kInvalidIntrinsics;
-  // searched region at the processing scale must hold a template
-  const double s = processingScale(params_, frame.colour.size(), frame.intrinsics);
-  const int pw = std::max(1, static_cast<int>(std::lround(frame.colour.cols * s)));
-  const int ph = std::max(1, static_cast<int>(std::lround(frame.colour.rows * s)));
-  const int top = static_cast<int>(std::lround(params_.roi_top * ph));
-  const int bottom = static_cast<int>(std::lround(params_.roi_bottom * ph));
-  if (pw < params_.template_size || bottom - top < params_.template_size)
-    return Status::kImageTooSmall;
-  return Status::kOk;
-}
-
-void LaneDetector::prepareGeometry(const Frame& frame) {
-  const double s = processingScale(params_, frame.colour.size(), frame.intrinsics);
-  const cv::Size in = frame.colour.size();
-  const cv::Size proc(std::max(1, static_cast<int>(std::lround(in.width * s))),
-                      std::max(1, static_cast<int>(std::lround(in.height * s))));
-  if (in != input_size_ || proc != proc_size_ || s != scale_) {
-    input_size_ = in;
-    proc_size_ = proc;
-    scale_ = s;
-    if (proc == in) {
-      col_map_.release();
-      row_map_.release();
-    } else {
-      col_map_.create(1, proc.width, CV_32SC1);
-      row_map_.create(1, proc.height, CV_32SC1);
-      for (int x = 0; x < proc.width; ++x)
-        col_map_.at<int>(x) = std::min(in.width - 1, static_cast<int>((x + 0.5) * in.width / proc.width));
-      for (int y = 0; y < proc.height; ++y)
-        row_map_.at<int>(y) =
-            std::min(in.height - 1, static_cast<int>((y + 0.5) * in.height / proc.height));
-    }
-    // buffers change size: start from zeroed maps (rows outside the ROI stay 0)
-    geometric_.release();
-    response_left_.release();
-    response_right_.release();
-  }
-  const int top = static_cast<int>(std::lround(params_.roi_top * proc.height));
-  const int bottom = static_cast<int>(std::lround(params_.roi_bottom * proc.height));
-  const cv::Rect roi(0, top, proc.width, bottom - top);
-  if (roi != roi_) {
-    roi_ = roi;
-    geometric_.release();
-  }
-  roi_rows_ = cv::Range(roi_.y, roi_.y + roi_.height);
-  proc_K_ = frame.intrinsics;
-}
-
-void LaneDetector::resampleColour(const Frame& frame) {
-  if (col_map_.empty()) return;
-  colour_small_.create(proc_size_, frame.colour.type());
-  remapNearest<uint8_t>(frame.colour, col_map_, row_map_, frame.colour.channels(), colour_small_);
-}
-
 Status LaneDetector::detect(const Frame& frame, Result& result) {
-  const Clock::time_point start = Clock::now();
   timings_ = StageTimings();
   result.left.found = result.right.found = false;
   result.plane.valid = false;
@@ -216,6 +99,30 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
     result.timings = timings_;
     return result.status;
   }
+  {
+    const StageTimer total(timings_.total);
+    runStages(frame, result);
+  }
+  result.timings = timings_;
+  return Status::kOk;
+}
+
+void LaneDetector::runStages(const Frame& frame, Result& result) {
+  // Numbered as in METHOD.md and the stages' files; the improvements without a number.
+  prepareFrame(frame);            // the processing image's geometry, this frame's templates
+  preprocess(frame);              // 1. half-binary image
+  computePoints(frame);           // 2. organised 3D points
+  fitRoadSurface(frame);          // the road plane from depth, extended where depth is missing
+  computeResponses();             // 3.-5. normals and G, template matching, R
+  traceCandidates(frame);         // 6.-7. each side's seeds, PCA angles and traced lines
+  classifyCandidates();           // paint, road edge or no boundary
+  fitLane(result);                // 8. the lane plane and boundaries
+  measurePaint(frame, result);    // dashed or solid, white or yellow
+  updateLaneModel(frame, result); // the lane model for planners
+  finish(result);
+}
+
+void LaneDetector::prepareFrame(const Frame& frame) {
   prepareGeometry(frame);
   if (templates_dirty_) {
     makeLineTemplate(params_.template_size, params_.template_line_width, next_left_angle_,
@@ -233,46 +140,38 @@ Status LaneDetector::detect(const Frame& frame, Result& result) {
   for (int side = 0; side < 2; ++side)
     acquiring_[side] = params_.acquisition_angle_deg > 0.0 && params_.track_lanes &&
                        !fitter_.tracker().established(side);
+}
 
-  Clock::time_point t = start;
-  preprocess(frame);            // 1. half-binary image
-  timings_.preprocess = msSince(t);
-  computePoints(frame);         // 2. organised 3D points
-  timings_.points = msSince(t);
-  fitRoadSurface(frame);        // 3. the road plane from depth, extended where depth is missing
-  timings_.road = msSince(t);   //    (improved mode)
-  computeResponses();           // 4.-6. template matching, normals and G, R
-  msSince(t);
+void LaneDetector::traceCandidates(const Frame& frame) {
   const CandidateFrame& cf = candidateFrame(frame);
   finder_.clear();
-  for (int side = 0; side < 2; ++side) {  // 7. seeds, PCA angles and traces of each side's lines
+  for (int side = 0; side < 2; ++side) {
     finder_.traceLines(cf, side, side == 0 ? response_left_ : response_right_);
     if (acquiring_[side])
       finder_.traceLines(cf, side, side == 0 ? acquisition_response_left_ : acquisition_response_right_);
   }
   timings_.pca = finder_.pcaMs();
   timings_.tracing = finder_.tracingMs();
-  msSince(t);
-  finder_.classify(cf);         // 8. paint, road edge or no boundary (improved mode)
-  timings_.classify = msSince(t);
-  LaneFitInput fit;             // 9. the lane plane and boundaries
+}
+
+void LaneDetector::classifyCandidates() {
+  const StageTimer timer(timings_.classify);
+  finder_.classify(candidate_frame_);
+}
+
+void LaneDetector::fitLane(Result& result) {
+  const StageTimer timer(timings_.plane);
+  LaneFitInput fit;
   fit.K = proc_K_;
   fit.road = &road_;
   fit.road_range = road_.valid ? road_.range : 0.0;
   fit.candidates = &finder_.candidates();
   fit.counts = finder_.counts();
   fitter_.fit(fit, result);
-  timings_.plane = msSince(t);
-  measurePaint(frame, result);  // 10. dashed or solid, white or yellow
-  updateLaneModel(frame, result);  // 11. the lane model for planners
-  timings_.model = msSince(t);
-  finish(result);
-  timings_.total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  result.timings = timings_;
-  return Status::kOk;
 }
 
 void LaneDetector::preprocess(const Frame& frame) {
+  const StageTimer timer(timings_.preprocess);
   resampleColour(frame);
   const cv::Mat& colour = col_map_.empty() ? frame.colour : colour_small_;
   // the grey image (a half-binary image at threshold 0) when the adaptive threshold or the
@@ -296,6 +195,7 @@ void LaneDetector::preprocess(const Frame& frame) {
 }
 
 void LaneDetector::computePoints(const Frame& frame) {
+  const StageTimer timer(timings_.points);
   // the ROI plus the normal window's margin, read through the maps: exact back-projection of
   // each sampled source pixel
   const int h = params_.normal_window / 2;
@@ -310,32 +210,8 @@ void LaneDetector::computePoints(const Frame& frame) {
 }
 
 void LaneDetector::computeResponses() {
-  const Params& p = params_;
-  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept), for every pixel or
-  // (mask given) only where G enters R.
-  auto normals = [&](const cv::Mat* mask) {
-    const Clock::time_point t3 = Clock::now();
-    fals_.configure(proc_size_, proc_K_, p.normal_window, col_map_, row_map_);
-    if (mask)
-      fals_.computeGeometric(points_, roi_rows_, p, *mask, geometric_);
-    else
-      fals_.computeGeometric(points_, roi_rows_, p, geometric_);
-    timings_.normals += std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
-  };
-  // 4. matching, with the acquisition templates too for the sides that acquire
-  const bool acquisition = acquiring_[0] || acquiring_[1];
-  auto matching = [&] {
-    const Clock::time_point t4 = Clock::now();
-    matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
-                   response_right_);
-    if (acquisition)
-      acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
-                                 acquisition_response_left_, acquisition_response_right_);
-    timings_.matching = std::chrono::duration<double, std::milli>(Clock::now() - t4).count();
-  };
-
-  if (!p.use_depth) {
-    matching();
+  if (!params_.use_depth) {  // without depth, R = M
+    matchTemplates();
     if (geometric_.size() != proc_size_ || geometric_.type() != CV_32FC1) {
       geometric_.create(proc_size_, CV_32FC1);
       geometric_.setTo(0);
@@ -347,46 +223,82 @@ void LaneDetector::computeResponses() {
   if (full_geometric_) {
     // G everywhere does not depend on M: 3 and 4 on two cores when OpenCV may use two threads
     // (each timing is then its own stage's, and they overlap)
-    runPair([&] { normals(nullptr); }, matching);
+    runPair([this] { computeGeometric(nullptr); }, [this] { matchTemplates(); });
   } else {
-    matching();
+    matchTemplates();
   }
-  const Clock::time_point t5 = Clock::now();
-  if (p.plane_gate > 0.0 && fitter_.previousPlane().valid) {
-    applyPlaneGate(roi_rows_, response_left_, response_right_);
-    if (acquisition)
-      applyPlaneGate(roi_rows_, acquisition_response_left_, acquisition_response_right_);
-  }
-  timings_.response = std::chrono::duration<double, std::milli>(Clock::now() - t5).count();
-  const float tau = static_cast<float>(p.tau_g);
+  if (params_.plane_gate > 0.0 && fitter_.previousPlane().valid) gateByPlane();
   if (!full_geometric_) {
     // R needs G only where M >= tau_G (about 1% of the pixels of a road): G there only, which
     // saves most of the normals stage
-    const Clock::time_point t3 = Clock::now();
-    if (acquisition)
-      fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
-                  &acquisition_response_right_},
-                 tau, roi_rows_, fusion_mask_);
-    else
-      fusionMask({&response_left_, &response_right_}, tau, roi_rows_, fusion_mask_);
-    timings_.normals = std::chrono::duration<double, std::milli>(Clock::now() - t3).count();
-    normals(&fusion_mask_);
+    maskFusion();
+    computeGeometric(&fusion_mask_);
   }
+  fuseResponses();
+}
 
+void LaneDetector::computeGeometric(const cv::Mat* mask) {
+  // 3. normals, and G (Eq. 2) in the same pass (no normal image is kept), for every pixel or
+  // (mask given) only where G enters R.
+  const StageTimer timer(timings_.normals);
+  fals_.configure(proc_size_, proc_K_, params_.normal_window, col_map_, row_map_);
+  if (mask)
+    fals_.computeGeometric(points_, roi_rows_, params_, *mask, geometric_);
+  else
+    fals_.computeGeometric(points_, roi_rows_, params_, geometric_);
+}
+
+void LaneDetector::matchTemplates() {
+  // 4. matching, with the acquisition templates too for the sides that acquire
+  const StageTimer timer(timings_.matching);
+  matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
+                 response_right_);
+  if (acquiring())
+    acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
+                               acquisition_response_left_, acquisition_response_right_);
+}
+
+void LaneDetector::gateByPlane() {
+  // a match off the lane plane is no road marking; only what can become a seed, a PCA region or
+  // a trace is looked at (below tau_G, R = M)
+  const StageTimer timer(timings_.response);
+  const Params& p = params_;
+  const PlaneEstimate& previous = fitter_.previousPlane();
+  const float max_off = static_cast<float>(p.plane_gate);
+  const float tau = static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
+  applyPlaneGate(points_, roi_rows_, previous, max_off, tau, response_left_, response_right_);
+  if (acquiring())
+    applyPlaneGate(points_, roi_rows_, previous, max_off, tau, acquisition_response_left_,
+                   acquisition_response_right_);
+}
+
+void LaneDetector::maskFusion() {
+  const StageTimer timer(timings_.normals);
+  const float tau = static_cast<float>(params_.tau_g);
+  if (acquiring())
+    fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
+                &acquisition_response_right_},
+               tau, roi_rows_, fusion_mask_);
+  else
+    fusionMask({&response_left_, &response_right_}, tau, roi_rows_, fusion_mask_);
+}
+
+void LaneDetector::fuseResponses() {
   // 5. R
-  const Clock::time_point t6 = Clock::now();
+  const StageTimer timer(timings_.response);
+  const float tau = static_cast<float>(params_.tau_g);
   fuseResponse(response_left_, geometric_, tau, roi_rows_, response_left_);
   fuseResponse(response_right_, geometric_, tau, roi_rows_, response_right_);
-  if (acquisition) {
+  if (acquiring()) {
     fuseResponse(acquisition_response_left_, geometric_, tau, roi_rows_,
                  acquisition_response_left_);
     fuseResponse(acquisition_response_right_, geometric_, tau, roi_rows_,
                  acquisition_response_right_);
   }
-  timings_.response += std::chrono::duration<double, std::milli>(Clock::now() - t6).count();
 }
 
 void LaneDetector::fitRoadSurface(const Frame& frame) {
+  const StageTimer timer(timings_.road);
   road_.valid = false;
   road_filled_valid_ = false;
   if (params_.plane_fit != PlaneFit::kRoadSurface) return;
@@ -465,6 +377,7 @@ const CandidateFrame& LaneDetector::candidateFrame(const Frame& frame) {
 }
 
 void LaneDetector::measurePaint(const Frame& frame, Result& result) {
+  const StageTimer timer(timings_.model);
   MarkerTrace* traces[6] = {&result.left,           &result.right,
                             &result.outer[kNextLeft], &result.outer[kNextRight],
                             &result.outer[kRoadEdgeLeft], &result.outer[kRoadEdgeRight]};
@@ -481,6 +394,7 @@ void LaneDetector::measurePaint(const Frame& frame, Result& result) {
 }
 
 void LaneDetector::updateLaneModel(const Frame& frame, Result& result) {
+  const StageTimer timer(timings_.model);
   result.lane_model.valid = false;
   if (!params_.lane_model) return;
   const MarkerTrace* traces[6] = {&result.left,           &result.right,
@@ -508,7 +422,8 @@ void LaneDetector::updateLaneModel(const Frame& frame, Result& result) {
     return;
   }
   const Eigen::Isometry3d T =
-      frame.has_vehicle_frame ? frame.vehicle_from_camera : roadAlignedFrame(result.plane);
+      frame.has_vehicle_frame ? frame.vehicle_from_camera
+                              : RoadFrame::fromPlane(result.plane).roadFromCamera();
   lane_model_.update(T, observations_.data(), count, result.lane_model);
 }
 
@@ -522,39 +437,6 @@ void LaneDetector::finish(Result& result) {
   result.roi = roi_;
   result.scale = static_cast<double>(proc_size_.width) / input_size_.width;
   updateTemplates(result);
-}
-
-void LaneDetector::applyPlaneGate(const cv::Range& rows, cv::Mat& left, cv::Mat& right) {
-  // A match on a surface off the lane plane (a truck's stripe, a guard rail) cannot be a road
-  // marking: the responses of points farther than plane_gate from the previous plane are removed
-  // from both maps (named option, off in the paper mode).
-  // Only matches that can become seeds, PCA regions or traces are looked at: below tau_G,
-  // R = M, and below the trace and PCA thresholds too nothing takes it.
-  const Eigen::Vector3f pn = fitter_.previousPlane().normal.cast<float>();
-  const float pd = static_cast<float>(fitter_.previousPlane().distance);
-  const float max_off = static_cast<float>(params_.plane_gate);
-  const float tau = static_cast<float>(
-      std::min({params_.tau_g, params_.trace_threshold, params_.pca_threshold}));
-  constexpr int kBlock = 16;
-  for (int y = rows.start; y < rows.end; ++y) {
-    const float* q = points_.ptr<float>(y);
-    float* ml = left.ptr<float>(y);
-    float* mr = right.ptr<float>(y);
-    for (int x0 = 0; x0 < proc_size_.width; x0 += kBlock) {
-      const int x1 = std::min(x0 + kBlock, proc_size_.width);
-      // any match in the block at tau or above (an OR of comparisons, which the compiler
-      // vectorises; a float max chain is ordered and stays scalar without -ffast-math)
-      int any = 0;
-      for (int x = x0; x < x1; ++x) any |= static_cast<int>(ml[x] >= tau) | static_cast<int>(mr[x] >= tau);
-      if (!any) continue;
-      for (int x = x0; x < x1; ++x) {
-        if (ml[x] < tau && mr[x] < tau) continue;
-        const float* p = q + 3 * x;
-        if (std::fabs(pn.x() * p[0] + pn.y() * p[1] + pn.z() * p[2] + pd) > max_off)
-          ml[x] = mr[x] = 0.f;  // NaN (no depth) compares false: kept
-      }
-    }
-  }
 }
 
 void LaneDetector::updateTemplates(const Result& result) {

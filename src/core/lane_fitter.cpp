@@ -1,3 +1,6 @@
+// The lane fit: each frame's mode, and the improved mode's boundaries (each side's candidates
+// measured on the road plane, the boundary chosen, tracked and reported with its kind and
+// confidence; the lines beyond). The lane plane and paper mode: lane_fitter_plane.cpp.
 #include "rgbd_lane_detector/lane_fitter.h"
 
 #include <algorithm>
@@ -11,13 +14,15 @@
 namespace rgbd_lane_detector {
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kMaxHeading = 0.35;     // rad: a lane boundary runs along the road (~20 deg)
 constexpr double kNearestForward = 0.5;  // m: points closer ahead are not used
 constexpr double kEdgeDepthHeight = 0.3; // m: depth of a road edge up to this high is its own
 constexpr float kKindMemory = 0.8f;      // decay per frame of a side's kind vote
-constexpr double kSupportFrames = 3.0;   // frames of evidence for a confidence of 1 - 1/e
-constexpr double kAgeDecay = 0.8;        // confidence factor per frame without evidence
+// A tracked side's reported confidence (MarkerTrace::confidence, the detector's own): frames of
+// evidence for 1 - 1/e, and its factor per frame without evidence. Not the lane model's evidence
+// score (lane_model.cpp), which has its own decay and is calibrated on its own.
+constexpr double kConfidenceFrames = 3.0;
+constexpr double kConfidenceAgeDecay = 0.8;
 constexpr double kWidthProbe = 8.0;      // m ahead where two sides' lane width is checked
 constexpr int kMinEdgePoints = 5;       // own points a road edge is reported on
 constexpr int kMaxEdgeSamples = 40;     // reported points of a road edge at most
@@ -74,89 +79,12 @@ void LaneFitter::fit(const LaneFitInput& in, Result& result) {
   }
 }
 
-void LaneFitter::copyTrace(const MarkerTrace& from, MarkerTrace& to) const {
-  // element-wise: the vectors keep their capacity (no allocation in steady state)
-  to.found = from.found;
-  to.kind = from.kind;
-  to.confidence = from.confidence;
-  to.peak_score = from.peak_score;
-  to.seed = from.seed;
-  to.seed_point = from.seed_point;
-  to.angle = from.angle;
-  to.angle_valid = from.angle_valid;
-  to.pixels.assign(from.pixels.begin(), from.pixels.end());
-  to.scores.assign(from.scores.begin(), from.scores.end());
-  to.points.assign(from.points.begin(), from.points.end());
-  to.num_valid_points = from.num_valid_points;
-}
-
-// --- paper mode: the plane from the markers ----------------------------------------------
-
-void LaneFitter::fitMarkerPlane(const LaneFitInput& in, Result& result) {
-  const Params& p = params_;
-  MarkerTrace& L = result.left;
-  MarkerTrace& R = result.right;
-  // plane gate: drop marker points far from the previous plane
-  if (p.plane_gate > 0.0 && previous_plane_.valid) {
-    for (MarkerTrace* m : {&L, &R}) {
-      for (auto& q : m->points) {
-        if (!std::isnan(q.z()) && std::fabs(planeDistance(previous_plane_, q)) > p.plane_gate) {
-          q = Eigen::Vector3f(kNaN, kNaN, kNaN);
-          --m->num_valid_points;
-        }
-      }
-    }
-  }
-  L.found = L.num_valid_points >= p.min_marker_points;
-  R.found = R.num_valid_points >= p.min_marker_points;
-  PlaneEstimate& plane = result.plane;
-  if (!L.found || !R.found) {
-    rejectIncomplete(result);
-    return;
-  }
-  if (p.plane_fit == PlaneFit::kThreePoint) {
-    // v_a1: best left match, v_b: best right match, v_a2: furthest right centroid
-    Eigen::Vector3f a2(kNaN, kNaN, kNaN);
-    for (auto it = R.points.rbegin(); it != R.points.rend(); ++it) {
-      if (!std::isnan(it->z())) {
-        a2 = *it;
-        break;
-      }
-    }
-    planeFromThreePoints(L.seed_point, R.seed_point, a2, plane);
-  } else {
-    fit_points_.clear();
-    fit_points_.insert(fit_points_.end(), L.points.begin(), L.points.end());
-    fit_points_.insert(fit_points_.end(), R.points.begin(), R.points.end());
-    fitPlaneLeastSquares(fit_points_, 0.1, 3, plane);
-  }
-  if (!plane.valid || !planePlausible(plane)) {
-    plane.valid = false;
-    rejectIncomplete(result);
-    return;
-  }
-  smoothPlane(plane);
-  if (p.snap_to_plane) {
-    snapToPlane(in.K, plane, L);
-    snapToPlane(in.K, plane, R);
-  }
-  if (p.lane_width_max > 0.0) {
-    const double width = laneWidth(plane, L, R);
-    if (!(width >= p.lane_width_min && width <= p.lane_width_max)) {
-      plane.valid = false;
-      rejectIncomplete(result);
-    }
-  }
-}
-
-// --- improved mode: each boundary on its own -----------------------------------------------
-
-void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const PlaneFrame& frame,
+void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const RoadFrame& frame,
                          double road_range, bool left, BoundaryCandidate& c) const {
   c.road.clear();
   c.usable = false;
   c.offset = c.heading = c.lateral = std::numeric_limits<double>::quiet_NaN();
-  if (!c.evidence.boundary || !frame.valid) return;
+  if (!c.evidence.boundary || !frame.valid()) return;
   const bool edge = c.evidence.kind == BoundaryKind::kRoadEdge;
   const MarkerTrace& t = c.trace;
   for (size_t k = 0; k < t.pixels.size(); ++k) {
@@ -166,18 +94,18 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
     const Eigen::Vector3f& q = t.points[k];
     const bool depth = q.allFinite() && std::fabs(planeDistance(plane, q)) <= kEdgeDepthHeight;
     Eigen::Vector3d P;
-    const Eigen::Vector3d ray((t.pixels[k].x - K.cx) / K.fx, (t.pixels[k].y - K.cy) / K.fy, 1.0);
-    const double den = plane.normal.dot(ray);
-    const bool on_plane = den < -1e-9 && -plane.distance / den <= road_range;
+    const Eigen::Vector3d ray = K.ray(t.pixels[k].x, t.pixels[k].y);
+    double z = 0.0;
+    const bool on_plane = rayPlaneDepth(plane, ray, z) && z <= road_range;
     if (edge && depth)
       P = q.cast<double>();
     else if (on_plane)
-      P = ray * (-plane.distance / den);
+      P = ray * z;
     else if (depth)
       P = q.cast<double>();
     else
       continue;
-    const Eigen::Vector2d fl = frame.toPlane(P);
+    const Eigen::Vector2d fl = frame.toRoad(P);
     if (fl.x() >= kNearestForward) c.road.push_back(fl);
   }
   if (static_cast<int>(c.road.size()) < params_.min_marker_points) return;
@@ -186,12 +114,14 @@ void LaneFitter::measure(const Intrinsics& K, const PlaneEstimate& plane, const 
   c.offset = a;
   c.heading = std::atan(b);
   // where it is: the median lateral position of its own points (the offset extrapolates the
-  // line to the vehicle, and two lines seen at different headings would compare there)
+  // line to the vehicle, and two lines seen at different headings would compare there); of an
+  // even count the lower one, the one nearer the right (as when the lateral axis pointed right)
   laterals_.clear();
   for (const auto& q : c.road) laterals_.push_back(q.y());
-  std::nth_element(laterals_.begin(), laterals_.begin() + laterals_.size() / 2, laterals_.end());
-  c.lateral = laterals_[laterals_.size() / 2];
-  const double side = left ? -a : a;
+  const size_t mid = (laterals_.size() - 1) / 2;
+  std::nth_element(laterals_.begin(), laterals_.begin() + mid, laterals_.end());
+  c.lateral = laterals_[mid];
+  const double side = left ? a : -a;
   c.usable = side >= params_.boundary_offset_min && side <= params_.boundary_offset_max &&
              std::fabs(c.heading) <= kMaxHeading;
 }
@@ -238,18 +168,38 @@ int LaneFitter::choose(int i, const LaneFitInput& in) {
 }
 
 void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
-  const Params& p = params_;
-  PlaneEstimate& plane = result.plane;
   TrackerParams tp;
-  tp.memory = p.track_memory;
-  tp.max_age = p.track_max_age;
-  tp.gate = p.track_gate;
-  tp.min_points = p.min_marker_points;
-
-  // The plane: the road surface from depth, else (marker plane modes) from the best seeds'
-  // depth; while the depth shows no road, the last plane for as long as a side lives.
-  const bool any_track = tracker_.valid(0) || tracker_.valid(1);
+  tp.memory = params_.track_memory;
+  tp.max_age = params_.track_max_age;
+  tp.gate = params_.track_gate;
+  tp.min_points = params_.min_marker_points;
+  PlaneEstimate& plane = result.plane;
   double road_range = in.road_range;
+  boundaryPlane(in, plane, road_range);
+  takeSeedMeasurements(in, result);
+  if (!plane.valid) {
+    tracker_.update(RoadFrame(), none_, none_, tp);  // ages the lane model
+    return;
+  }
+  smoothPlane(plane);
+  const RoadFrame frame = RoadFrame::fromPlane(plane);
+  std::array<int, 2> chosen = chooseBoundaries(in, plane, frame, road_range);
+  tracker_.update(frame, evidence_[0], evidence_[1], tp);
+  handOverCrossedSide(chosen);
+  reportSide(0, in, frame, road_range, chosen[0], tp.sample_step, result.left);
+  reportSide(1, in, frame, road_range, chosen[1], tp.sample_step, result.right);
+  reportOuterLines(in, frame, chosen, result);
+  dropImplausibleWidth(result);
+  requirePaint(result);
+  if (!result.left.found || !result.right.found) rejectIncomplete(result);
+}
+
+void LaneFitter::boundaryPlane(const LaneFitInput& in, PlaneEstimate& plane,
+                               double& road_range) {
+  // The road surface from depth, else (marker plane modes) the plane of the best seeds' depth;
+  // while the depth shows no road, the last plane for as long as a side lives.
+  const Params& p = params_;
+  const bool any_track = tracker_.valid(0) || tracker_.valid(1);
   if (p.plane_fit == PlaneFit::kRoadSurface) {
     // (RoadSurface checked it against the up axis it was fitted with: the vehicle's, when the
     // frame gives the camera's pose)
@@ -281,6 +231,9 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     plane.fit_method = static_cast<int>(p.plane_fit);
     road_range = std::max(road_range, 20.0);
   }
+}
+
+void LaneFitter::takeSeedMeasurements(const LaneFitInput& in, Result& result) const {
   MarkerTrace* sides[2] = {&result.left, &result.right};
   for (int i = 0; i < 2; ++i) {
     MarkerTrace& m = *sides[i];
@@ -294,15 +247,13 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       m.angle_valid = best.angle_valid;
     }
   }
-  if (!plane.valid) {
-    tracker_.update(PlaneFrame(), none_, none_, tp);  // ages the lane model
-    return;
-  }
-  smoothPlane(plane);
-  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
+}
 
-  // each side's boundary: the nearest usable candidate (the tracked one while it is seen)
-  int chosen[2] = {-1, -1};
+std::array<int, 2> LaneFitter::chooseBoundaries(const LaneFitInput& in, const PlaneEstimate& plane,
+                                                const RoadFrame& frame, double road_range) {
+  // each side's boundary: the nearest usable candidate (the tracked one while it is seen); its
+  // road points are the side's evidence (evidence_)
+  std::array<int, 2> chosen{{-1, -1}};
   for (int i = 0; i < 2; ++i) {
     evidence_[i].clear();
     std::vector<BoundaryCandidate>& cands = (*in.candidates)[i];
@@ -312,11 +263,15 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     for (const auto& q : cands[chosen[i]].road)
       evidence_[i].push_back(frame.toCamera(q.x(), q.y()).cast<float>());
   }
-  tracker_.update(frame, evidence_[0], evidence_[1], tp);
-  // A side whose marker passed under the vehicle (a lane change) is the other side's now.
+  return chosen;
+}
+
+void LaneFitter::handOverCrossedSide(std::array<int, 2>& chosen) {
+  // A side whose marker passed under the vehicle (a lane change) is the other side's now: the
+  // left marker to the right of the vehicle (y < 0), or the right one to its left.
   for (int i = 0; i < 2; ++i) {
     if (!tracker_.valid(i)) continue;
-    const double crossed = (i == 0 ? 1.0 : -1.0) * tracker_.lateral(i, kCrossProbe);
+    const double crossed = (i == 0 ? -1.0 : 1.0) * tracker_.lateral(i, kCrossProbe);
     if (crossed <= 0.0) continue;
     tracker_.handOver(i);
     kind_score_[1 - i] = kind_score_[i];
@@ -327,66 +282,69 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
     chosen[i] = -1;
     break;
   }
+}
 
-  for (int i = 0; i < 2; ++i) {
-    MarkerTrace& m = *sides[i];
-    if (!tracker_.valid(i)) {
-      kind_score_[i] = 0.f;
-      evidence_margin_[i] = 0.f;
-      continue;
-    }
-    // this frame's chosen line, also where the tracker's gate kept its points out (the tracked
-    // shape lags a turning vehicle): the lane model gates it against its own prediction
-    if (chosen[i] >= 0) m.measured.assign(evidence_[i].begin(), evidence_[i].end());
-    // a side seen in one frame only is not carried on: one frame's stray line is no boundary
-    if (tracker_.age(i) > 0 && !tracker_.established(i)) continue;
-    if (tracker_.age(i) == 0 && chosen[i] >= 0) {
-      // the side's kind: a decaying vote of its classified evidence (a new side starts over)
-      const BoundaryCandidate& c = (*in.candidates)[i][chosen[i]];
-      const float vote = c.evidence.kind == BoundaryKind::kPaint ? 1.f : -1.f;
-      const float w = 0.25f + c.evidence.margin;
-      if (tracker_.frames(i) <= 1) {
-        kind_score_[i] = vote * w;
-        evidence_margin_[i] = c.evidence.margin;
-      } else {
-        kind_score_[i] = kKindMemory * kind_score_[i] + vote * w;
-        evidence_margin_[i] = kKindMemory * evidence_margin_[i] + (1.f - kKindMemory) * c.evidence.margin;
-      }
-      m.seed = c.trace.seed;
-      m.seed_point = c.trace.seed_point;
-      m.peak_score = c.trace.peak_score;
-      m.angle = c.trace.angle;
-      m.angle_valid = c.trace.angle_valid;
-    }
-    // reported: the side's model over its evidence's range, within the plane's range; a road
-    // edge seen this frame where it was seen (a kerb need not run parallel to the paint, nor
-    // be straight: it curves into a corner, it steps at a driveway)
-    samples_.clear();
-    if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen[i] >= 0)
-      measuredEdge((*in.candidates)[i][chosen[i]].road, frame, samples_);
-    // (a road edge not as far beyond where it was seen as paint: kerbs end at driveways and
-    // intersections)
-    if (samples_.empty())
-      tracker_.sample(i, frame, tp.sample_step, samples_,
-                      kind_score_[i] < 0.f ? LaneTracker::kEdgeExtrapolation
-                                           : LaneTracker::kPaintExtrapolation);
-    for (const auto& q : samples_) {
-      if (!(q.z() > 0.1f)) continue;
-      if (frame.toPlane(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
-      m.points.push_back(q);
-      m.pixels.emplace_back(static_cast<float>(in.K.fx * q.x() / q.z() + in.K.cx),
-                            static_cast<float>(in.K.fy * q.y() / q.z() + in.K.cy));
-      m.scores.push_back(m.peak_score);
-    }
-    m.num_valid_points = static_cast<int>(m.points.size());
-    m.found = m.num_valid_points >= p.min_marker_points;
-    if (!m.found) continue;
-    m.kind = kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
-    const double support = 1.0 - std::exp(-tracker_.frames(i) / kSupportFrames);
-    const double fresh = std::pow(kAgeDecay, tracker_.age(i));
-    m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
+void LaneFitter::reportSide(int i, const LaneFitInput& in, const RoadFrame& frame,
+                            double road_range, int chosen, double sample_step, MarkerTrace& m) {
+  if (!tracker_.valid(i)) {
+    kind_score_[i] = 0.f;
+    evidence_margin_[i] = 0.f;
+    return;
   }
+  // this frame's chosen line, also where the tracker's gate kept its points out (the tracked
+  // shape lags a turning vehicle): the lane model gates it against its own prediction
+  if (chosen >= 0) m.measured.assign(evidence_[i].begin(), evidence_[i].end());
+  // a side seen in one frame only is not carried on: one frame's stray line is no boundary
+  if (tracker_.age(i) > 0 && !tracker_.established(i)) return;
+  if (tracker_.age(i) == 0 && chosen >= 0) voteKind(i, (*in.candidates)[i][chosen], m);
+  // reported: the side's model over its evidence's range, within the plane's range; a road
+  // edge seen this frame where it was seen (a kerb need not run parallel to the paint, nor
+  // be straight: it curves into a corner, it steps at a driveway)
+  samples_.clear();
+  if (kind_score_[i] < 0.f && tracker_.age(i) == 0 && chosen >= 0)
+    measuredEdge((*in.candidates)[i][chosen].road, frame, samples_);
+  // (a road edge not as far beyond where it was seen as paint: kerbs end at driveways and
+  // intersections)
+  if (samples_.empty())
+    tracker_.sample(i, frame, sample_step, samples_,
+                    kind_score_[i] < 0.f ? LaneTracker::kEdgeExtrapolation
+                                         : LaneTracker::kPaintExtrapolation);
+  for (const auto& q : samples_) {
+    if (!(q.z() > 0.1f)) continue;
+    if (frame.toRoad(q.cast<double>()).x() > std::max(road_range, 1.0)) break;
+    m.points.push_back(q);
+    m.pixels.emplace_back(in.K.project(q));
+    m.scores.push_back(m.peak_score);
+  }
+  m.num_valid_points = static_cast<int>(m.points.size());
+  m.found = m.num_valid_points >= params_.min_marker_points;
+  if (!m.found) return;
+  m.kind = kind_score_[i] >= 0.f ? BoundaryKind::kPaint : BoundaryKind::kRoadEdge;
+  const double support = 1.0 - std::exp(-tracker_.frames(i) / kConfidenceFrames);
+  const double fresh = std::pow(kConfidenceAgeDecay, tracker_.age(i));
+  m.confidence = static_cast<float>(support * fresh * (0.5 + 0.5 * evidence_margin_[i]));
+}
 
+void LaneFitter::voteKind(int i, const BoundaryCandidate& c, MarkerTrace& m) {
+  // the side's kind: a decaying vote of its classified evidence (a new side starts over)
+  const float vote = c.evidence.kind == BoundaryKind::kPaint ? 1.f : -1.f;
+  const float w = 0.25f + c.evidence.margin;
+  if (tracker_.frames(i) <= 1) {
+    kind_score_[i] = vote * w;
+    evidence_margin_[i] = c.evidence.margin;
+  } else {
+    kind_score_[i] = kKindMemory * kind_score_[i] + vote * w;
+    evidence_margin_[i] = kKindMemory * evidence_margin_[i] + (1.f - kKindMemory) * c.evidence.margin;
+  }
+  m.seed = c.trace.seed;
+  m.seed_point = c.trace.seed_point;
+  m.peak_score = c.trace.peak_score;
+  m.angle = c.trace.angle;
+  m.angle_valid = c.trace.angle_valid;
+}
+
+void LaneFitter::reportOuterLines(const LaneFitInput& in, const RoadFrame& frame,
+                                  const std::array<int, 2>& chosen, Result& result) const {
   // Lines beyond the ego boundaries: the next lanes' and the road edges, as seen this frame (the
   // nearest of each).
   double outer_offset[4] = {0.0, 0.0, 0.0, 0.0};
@@ -409,8 +367,7 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       for (const auto& q : c.road) {
         const Eigen::Vector3f P = frame.toCamera(q.x(), q.y()).cast<float>();
         m.points.push_back(P);
-        m.pixels.emplace_back(static_cast<float>(in.K.fx * P.x() / P.z() + in.K.cx),
-                              static_cast<float>(in.K.fy * P.y() / P.z() + in.K.cy));
+        m.pixels.emplace_back(in.K.project(P));
         m.scores.push_back(c.trace.peak_score);
       }
       m.num_valid_points = static_cast<int>(m.points.size());
@@ -424,108 +381,35 @@ void LaneFitter::fitBoundaries(const LaneFitInput& in, Result& result) {
       m.angle_valid = c.trace.angle_valid;
     }
   }
+}
 
+void LaneFitter::dropImplausibleWidth(Result& result) const {
   // Two sides closer or farther apart than any lane: the less confident one is not reported.
-  if (result.left.found && result.right.found && p.lane_width_max > 0.0) {
-    const double width = tracker_.lateral(1, kWidthProbe) - tracker_.lateral(0, kWidthProbe);
-    if (!(width >= p.lane_width_min && width <= p.lane_width_max)) {
-      MarkerTrace& weaker = result.left.confidence < result.right.confidence ? result.left
-                                                                             : result.right;
-      weaker.found = false;
-      weaker.confidence = 0.0f;
-    }
-  }
+  const Params& p = params_;
+  if (!result.left.found || !result.right.found || !(p.lane_width_max > 0.0)) return;
+  const double width = tracker_.lateral(0, kWidthProbe) - tracker_.lateral(1, kWidthProbe);
+  if (width >= p.lane_width_min && width <= p.lane_width_max) return;
+  MarkerTrace& weaker = result.left.confidence < result.right.confidence ? result.left
+                                                                         : result.right;
+  weaker.found = false;
+  weaker.confidence = 0.0f;
+}
+
+void LaneFitter::requirePaint(Result& result) const {
   // A lane is marked by paint: a road edge bounds it where one side has none (a kerb, rails,
   // an unpainted edge beside a painted line), but road edges alone (a street without markings,
   // parked cars and kerbs) are no lane.
   const bool paint = (result.left.found && result.left.kind == BoundaryKind::kPaint) ||
                      (result.right.found && result.right.kind == BoundaryKind::kPaint);
-  if (!paint) {
-    for (MarkerTrace* m : {&result.left, &result.right}) {
-      m->found = false;
-      m->confidence = 0.0f;
-    }
-    for (MarkerTrace& m : result.outer) clearTrace(m);
+  if (paint) return;
+  for (MarkerTrace* m : {&result.left, &result.right}) {
+    m->found = false;
+    m->confidence = 0.0f;
   }
-  if (!result.left.found || !result.right.found) rejectIncomplete(result);
+  for (MarkerTrace& m : result.outer) clearTrace(m);
 }
 
-// --- shared checks -------------------------------------------------------------------------
-
-bool LaneFitter::planePlausible(const PlaneEstimate& plane) const {
-  const Params& p = params_;
-  const Eigen::Vector3d up(p.up_x, p.up_y, p.up_z);
-  // the normal points toward the camera, i.e. up; allow |tilt| up to plane_max_tilt_deg
-  const double cos_tilt = plane.normal.dot(up);
-  if (p.plane_max_tilt_deg < 90.0 && cos_tilt < std::cos(p.plane_max_tilt_deg * M_PI / 180.0))
-    return false;
-  return plane.distance >= p.plane_distance_min && plane.distance <= p.plane_distance_max;
-}
-
-void LaneFitter::smoothPlane(PlaneEstimate& plane) const {
-  if (!(params_.plane_smoothing > 0.0) || !previous_plane_.valid) return;
-  const double w = params_.plane_smoothing;
-  const Eigen::Vector3d n = (1.0 - w) * plane.normal + w * previous_plane_.normal;
-  if (n.norm() > 1e-9) {
-    plane.normal = n.normalized();
-    plane.distance = (1.0 - w) * plane.distance + w * previous_plane_.distance;
-  }
-}
-
-void LaneFitter::snapToPlane(const Intrinsics& K, const PlaneEstimate& plane,
-                             MarkerTrace& m) const {
-  // Markers are paint on the road: their 3D points are where their pixel rays meet the plane.
-  m.num_valid_points = 0;
-  for (size_t i = 0; i < m.pixels.size(); ++i) {
-    const Eigen::Vector3d ray((m.pixels[i].x - K.cx) / K.fx, (m.pixels[i].y - K.cy) / K.fy, 1.0);
-    const double denom = plane.normal.dot(ray);
-    const double t = denom < -1e-9 ? -plane.distance / denom : -1.0;
-    if (t > 0.0 && t * ray.z() <= params_.max_depth) {
-      m.points[i] = (ray * t).cast<float>();
-      ++m.num_valid_points;
-    } else {
-      m.points[i] = Eigen::Vector3f(kNaN, kNaN, kNaN);
-    }
-  }
-  m.found = m.num_valid_points >= params_.min_marker_points;
-}
-
-double LaneFitter::laneWidth(const PlaneEstimate& plane, const MarkerTrace& L,
-                             const MarkerTrace& R) const {
-  // lateral axis of the road: the optical axis projected into the plane, crossed with the normal
-  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
-  if (!frame.valid) return std::numeric_limits<double>::quiet_NaN();
-  // for each left point, the right point nearest in the forward direction
-  width_samples_.clear();
-  for (const auto& l : L.points) {
-    if (!l.allFinite()) continue;
-    const Eigen::Vector2d ql = frame.toPlane(l.cast<double>());
-    double best = std::numeric_limits<double>::infinity(), lat = 0.0;
-    for (const auto& r : R.points) {
-      if (!r.allFinite()) continue;
-      const Eigen::Vector2d qr = frame.toPlane(r.cast<double>());
-      const double df = std::fabs(qr.x() - ql.x());
-      if (df < best) {
-        best = df;
-        lat = qr.y() - ql.y();
-      }
-    }
-    if (best < 2.0) width_samples_.push_back(lat);
-  }
-  if (width_samples_.size() < 3) return std::numeric_limits<double>::quiet_NaN();
-  std::nth_element(width_samples_.begin(), width_samples_.begin() + width_samples_.size() / 2,
-                   width_samples_.end());
-  return width_samples_[width_samples_.size() / 2];
-}
-
-void LaneFitter::rejectIncomplete(Result& result) const {
-  if (!params_.report_only_complete) return;
-  result.left.found = false;
-  result.right.found = false;
-  result.left.confidence = result.right.confidence = 0.0f;
-}
-
-void LaneFitter::measuredEdge(const std::vector<Eigen::Vector2d>& road, const PlaneFrame& frame,
+void LaneFitter::measuredEdge(const std::vector<Eigen::Vector2d>& road, const RoadFrame& frame,
                               std::vector<Eigen::Vector3f>& out) const {
   out.clear();
   if (road.size() < static_cast<size_t>(kMinEdgePoints)) return;

@@ -59,19 +59,6 @@ bool fitRobustLine(const std::vector<Eigen::Vector2d>& points, double gate, doub
   return have;
 }
 
-PlaneFrame PlaneFrame::fromPlane(const PlaneEstimate& plane) {
-  PlaneFrame f;
-  if (!plane.valid) return f;
-  const Eigen::Vector3d n = plane.normal;
-  Eigen::Vector3d fwd = Eigen::Vector3d::UnitZ() - n * n.z();
-  if (fwd.norm() < 1e-6) return f;
-  f.forward = fwd.normalized();
-  f.lateral = f.forward.cross(n).normalized();
-  f.origin = -plane.distance * n;
-  f.valid = true;
-  return f;
-}
-
 double LaneTracker::Side::nearest() const {
   double v = std::numeric_limits<double>::infinity();
   for (int i = 0; i < num_extents; ++i) v = std::min(v, extents[i].x());
@@ -156,14 +143,14 @@ void LaneTracker::solve() {
   if (!coef_.allFinite()) reset();
 }
 
-void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vector3f>& left,
+void LaneTracker::update(const RoadFrame& frame, const std::vector<Eigen::Vector3f>& left,
                          const std::vector<Eigen::Vector3f>& right, const TrackerParams& params) {
   const std::vector<Eigen::Vector3f>* points[2] = {&left, &right};
   for (int i = 0; i < 2; ++i) {
     measurements_[i].clear();
-    if (!frame.valid) continue;
+    if (!frame.valid()) continue;
     for (const auto& p : *points[i])
-      if (p.allFinite()) measurements_[i].push_back(frame.toPlane(p.cast<double>()));
+      if (p.allFinite()) measurements_[i].push_back(frame.toRoad(p.cast<double>()));
   }
   auto enough = [&](int i) { return static_cast<int>(measurements_[i].size()) >= params.min_points; };
 
@@ -198,9 +185,11 @@ void LaneTracker::update(const PlaneFrame& frame, const std::vector<Eigen::Vecto
     if (!gate[i]) continue;
     residuals_.clear();
     for (const auto& q : measurements_[i]) residuals_.push_back(q.y() - lateral(i, q.x()));
-    std::nth_element(residuals_.begin(), residuals_.begin() + residuals_.size() / 2,
-                     residuals_.end());
-    side_shift[i] = residuals_[residuals_.size() / 2];
+    // (the median; of an even count the lower one, the one nearer the right, as when the lateral
+    // axis pointed right)
+    const size_t mid = (residuals_.size() - 1) / 2;
+    std::nth_element(residuals_.begin(), residuals_.begin() + mid, residuals_.end());
+    side_shift[i] = residuals_[mid];
     have_shift[i] = std::fabs(side_shift[i]) <= params.gate;
   }
   double measured = 0.0;
@@ -266,11 +255,11 @@ void LaneTracker::trimToLine(std::vector<Eigen::Vector2d>& m, double gate) {
           m.end());
 }
 
-void LaneTracker::sample(int i, const PlaneFrame& frame, double step,
+void LaneTracker::sample(int i, const RoadFrame& frame, double step,
                          std::vector<Eigen::Vector3f>& out, double beyond) const {
   out.clear();
   const Side& s = sides_[i];
-  if (!s.valid || !frame.valid || !(step > 0.0)) return;
+  if (!s.valid || !frame.valid() || !(step > 0.0)) return;
   double near = s.nearest(), far = s.farthest();
   const Side& other = sides_[1 - i];
   if (other.valid) {

@@ -74,8 +74,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
   }
   edges_[0].clear();
   edges_[1].clear();
-  const PlaneFrame frame = PlaneFrame::fromPlane(plane);
-  if (!frame.valid || points.type() != CV_32FC3) return;
+  const RoadFrame frame = RoadFrame::fromPlane(plane);
+  if (!frame.valid() || points.type() != CV_32FC3) return;
   const Eigen::Vector3f n = plane.normal.cast<float>();
   const float d = static_cast<float>(plane.distance);
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
@@ -91,10 +91,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
   double searched = -1.0;               // road distance of the last row searched
   for (int y = r1 - 1; y >= r0; --y) {  // near to far
     // the road's distance on this row, and how finely the input image resolves it across
-    const double ry = ((rm ? rm[y] : y) - K.cy) / K.fy;
-    const double den = plane.normal.y() * ry + plane.normal.z();
-    if (!(den < -1e-9)) continue;
-    const double depth = -plane.distance / den;
+    double depth = 0.0;
+    if (!rayPlaneDepth(plane, K.ray(K.cx, rm ? rm[y] : y), depth)) continue;
     if (depth > s.max_range || K.fx / depth < s.min_pixels_per_metre) continue;
     // near the car rows are a centimetre apart: one in kRowSpacing of road is enough
     if (searched >= 0.0 && depth - searched < kRowSpacing) continue;
@@ -134,8 +132,8 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
             const cv::Vec3f& a = row[last_road];
             const cv::Vec3f& b = row[first_raised];
             RowEdge e;
-            e.road = 0.5 * (frame.toPlane(Eigen::Vector3d(a[0], a[1], a[2])) +
-                            frame.toPlane(Eigen::Vector3d(b[0], b[1], b[2])));
+            e.road = 0.5 * (frame.toRoad(Eigen::Vector3d(a[0], a[1], a[2])) +
+                            frame.toRoad(Eigen::Vector3d(b[0], b[1], b[2])));
             // a sidewalk stays low beyond its kerb, and its top is level; a car's or a truck's
             // side rises, its rear face is vertical
             if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local,
@@ -153,14 +151,14 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
 }
 
 void RoadEdgeFinder::fitSide(const std::vector<RowEdge>& edges, const Intrinsics& K,
-                             const PlaneFrame& frame, const RoadEdgeSettings& s, bool left,
+                             const RoadFrame& frame, const RoadEdgeSettings& s, bool left,
                              RoadEdgeLine& out) {
   if (static_cast<int>(edges.size()) < kMinRows) return;
   road_.clear();
   for (const RowEdge& e : edges) road_.push_back(e.road);
   double a = 0.0, b = 0.0;
   if (!fitRobustLine(road_, kLineGate, a, b)) return;
-  const double side = left ? -a : a;
+  const double side = left ? a : -a;
   if (side < s.offset_min || side > s.offset_max || std::fabs(std::atan(b)) > kMaxHeading) return;
   double near = 1e9, far = -1e9;
   inliers_.clear();
@@ -173,8 +171,7 @@ void RoadEdgeFinder::fitSide(const std::vector<RowEdge>& edges, const Intrinsics
   if (static_cast<int>(inliers_.size()) < kMinRows || far - near < kMinLength) return;
   for (int i : inliers_) {  // near to far (rows were searched bottom up)
     const Eigen::Vector3d P = frame.toCamera(edges[i].road.x(), edges[i].road.y());
-    out.pixels.emplace_back(static_cast<float>(K.fx * P.x() / P.z() + K.cx),
-                            static_cast<float>(K.fy * P.y() / P.z() + K.cy));
+    out.pixels.emplace_back(K.project(P));
     out.points.push_back(P.cast<float>());
   }
   out.offset = a;

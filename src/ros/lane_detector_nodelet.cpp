@@ -532,7 +532,7 @@ void LaneDetectorNodelet::publishOutputs(const Wanted& wanted, const Frame& fram
   if ((wanted.model || wanted.centre || wanted.markers || wanted.grid) && !vehicle_frame_found_ &&
       result_.plane.valid) {
     // the road-aligned fallback frame, so that rviz and users can place the model
-    geometry_msgs::TransformStamped tf = tf2::eigenToTransform(roadAlignedFrame(result_.plane).inverse());
+    geometry_msgs::TransformStamped tf = tf2::eigenToTransform(RoadFrame::fromPlane(result_.plane).roadFromCamera().inverse());
     tf.header = image_header;
     tf.child_frame_id = model_frame_id_;
     if (!road_frame_broadcaster_) road_frame_broadcaster_.reset(new tf2_ros::TransformBroadcaster);

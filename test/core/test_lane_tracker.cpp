@@ -10,7 +10,8 @@
 namespace rgbd_lane_detector {
 namespace {
 
-// A level road 1.5 m below the camera: forward = z, lateral = x.
+// A level road 1.5 m below the camera: forward = z, lateral (RoadFrame y, left) = -x. The
+// markers are placed at camera x (right); the tracker's lateral positions are y = -x.
 PlaneEstimate road() {
   PlaneEstimate p;
   p.valid = true;
@@ -32,28 +33,15 @@ double curved(double f) { return f * f / (2.0 * 300.0); }  // 300 m radius to th
 
 const std::vector<Eigen::Vector3f> kNone;
 
-TEST(PlaneFrame, AxesOfALevelRoad) {
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
-  ASSERT_TRUE(f.valid);
-  EXPECT_LT((f.forward - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
-  EXPECT_LT((f.lateral - Eigen::Vector3d::UnitX()).norm(), 1e-12);
-  EXPECT_LT((f.origin - Eigen::Vector3d(0, 1.5, 0)).norm(), 1e-12);
-  const Eigen::Vector2d q = f.toPlane(Eigen::Vector3d(-1.8, 1.5, 12.0));
-  EXPECT_NEAR(q.x(), 12.0, 1e-12);
-  EXPECT_NEAR(q.y(), -1.8, 1e-12);
-  EXPECT_LT((f.toCamera(12.0, -1.8) - Eigen::Vector3d(-1.8, 1.5, 12.0)).norm(), 1e-12);
-  EXPECT_FALSE(PlaneFrame::fromPlane(PlaneEstimate()).valid);
-}
-
 TEST(LaneTracker, StraightLaneFromOneFrame) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
   ASSERT_TRUE(t.valid(0) && t.valid(1));
   for (double d : {3.0, 10.0, 20.0}) {
-    EXPECT_NEAR(t.lateral(0, d), -1.8, 0.01);
-    EXPECT_NEAR(t.lateral(1, d), 1.8, 0.01);
+    EXPECT_NEAR(t.lateral(0, d), 1.8, 0.01);
+    EXPECT_NEAR(t.lateral(1, d), -1.8, 0.01);
   }
   std::vector<Eigen::Vector3f> out;
   t.sample(0, f, tp.sample_step, out);
@@ -71,7 +59,7 @@ TEST(LaneTracker, StraightLaneFromOneFrame) {
 
 TEST(LaneTracker, BridgesADashGapAndForgetsAfterMaxAge) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   tp.max_age = 6;
   for (int i = 0; i < 2; ++i)
@@ -81,7 +69,7 @@ TEST(LaneTracker, BridgesADashGapAndForgetsAfterMaxAge) {
     t.update(f, kNone, marker(straight, 1.8, 3, 30), tp);
     ASSERT_TRUE(t.valid(0)) << i;
   }
-  EXPECT_NEAR(t.lateral(0, 25.0), -1.8, 0.02);
+  EXPECT_NEAR(t.lateral(0, 25.0), 1.8, 0.02);
   std::vector<Eigen::Vector3f> out;
   t.sample(0, f, tp.sample_step, out);
   ASSERT_FALSE(out.empty());
@@ -94,7 +82,7 @@ TEST(LaneTracker, BridgesADashGapAndForgetsAfterMaxAge) {
 
 TEST(LaneTracker, SidewaysMotionMovesBothMarkers) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
   t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
@@ -104,46 +92,46 @@ TEST(LaneTracker, SidewaysMotionMovesBothMarkers) {
     shift -= 0.1;
     t.update(f, kNone, marker(straight, 1.8 + shift, 3, 20), tp);
   }
-  EXPECT_NEAR(t.lateral(1, 10.0), 1.8 + shift, 0.02);
-  EXPECT_NEAR(t.lateral(0, 10.0), -1.8 + shift, 0.03);  // followed without evidence of its own
+  EXPECT_NEAR(t.lateral(1, 10.0), -1.8 - shift, 0.02);
+  EXPECT_NEAR(t.lateral(0, 10.0), 1.8 - shift, 0.03);  // followed without evidence of its own
 }
 
 TEST(LaneTracker, RejectsStrayPointsButFollowsALaneChange) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   for (int i = 0; i < 3; ++i)
     t.update(f, marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
   // a stray trace 1 m off on the left (a shadow edge) in one frame: rejected
   t.update(f, marker(straight, -0.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
-  EXPECT_NEAR(t.lateral(0, 10.0), -1.8, 0.02);
+  EXPECT_NEAR(t.lateral(0, 10.0), 1.8, 0.02);
   // the left side is lost for a while, then seen for good 3.6 m further left (lane change)
   for (int i = 0; i < 4; ++i) t.update(f, kNone, kNone, tp);
   t.update(f, marker(straight, -5.4, 3, 20), marker(straight, -1.8, 3, 20), tp);
-  EXPECT_NEAR(t.lateral(0, 10.0), -5.4, 0.05);
-  EXPECT_NEAR(t.lateral(1, 10.0), -1.8, 0.05);
+  EXPECT_NEAR(t.lateral(0, 10.0), 5.4, 0.05);
+  EXPECT_NEAR(t.lateral(1, 10.0), 1.8, 0.05);
 }
 
 TEST(LaneTracker, FirstEvidenceIsTrimmedToItsOwnLine) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   std::vector<Eigen::Vector3f> left = marker(straight, -1.8, 3, 20);
   for (double d = 12; d <= 18; d += 1.0)  // the trace left the marker along a vehicle's edge
     left.emplace_back(static_cast<float>(-1.8 + 0.5 * (d - 10.0)), 1.5f, static_cast<float>(d));
   t.update(f, left, marker(straight, 1.8, 3, 20), tp);
-  EXPECT_NEAR(t.lateral(0, 16.0), -1.8, 0.05);
+  EXPECT_NEAR(t.lateral(0, 16.0), 1.8, 0.05);
 }
 
 TEST(LaneTracker, CurvedLane) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   for (int i = 0; i < 3; ++i)
     t.update(f, marker(curved, -1.8, 3, 40, 0.5), marker(curved, 1.8, 3, 40, 0.5), tp);
   for (double d : {5.0, 20.0, 35.0}) {
-    EXPECT_NEAR(t.lateral(0, d), curved(d) - 1.8, 0.05) << d;
-    EXPECT_NEAR(t.lateral(1, d), curved(d) + 1.8, 0.05) << d;
+    EXPECT_NEAR(t.lateral(0, d), 1.8 - curved(d), 0.05) << d;
+    EXPECT_NEAR(t.lateral(1, d), -1.8 - curved(d), 0.05) << d;
   }
 }
 
@@ -154,32 +142,32 @@ TEST(LaneTracker, TwoWellSeenSidesKeepTheirOwnHeadings) {
   // paint straight ahead on the left, a kerb turning away on the right (before an intersection):
   // each side seen over 3-30 m follows its own points, not a shared shape
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   for (int i = 0; i < 3; ++i)
     t.update(f, marker(straight, -1.8, 3, 30, 0.5), marker(diverging, 1.8, 3, 30, 0.5), tp);
   for (double d : {5.0, 15.0, 25.0}) {
-    EXPECT_NEAR(t.lateral(0, d), -1.8, 0.1) << d;
-    EXPECT_NEAR(t.lateral(1, d), 1.8 + diverging(d), 0.1) << d;
+    EXPECT_NEAR(t.lateral(0, d), 1.8, 0.1) << d;
+    EXPECT_NEAR(t.lateral(1, d), -1.8 - diverging(d), 0.1) << d;
   }
 }
 
 TEST(LaneTracker, AShortDashTakesItsShapeFromTheOtherSide) {
   // one dash of 2 m on the right says little of its heading: it runs parallel to the left line
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   std::vector<Eigen::Vector3f> dash = marker(heading, 1.8, 10, 12, 0.25);
   for (size_t k = 0; k < dash.size(); ++k)  // 3 cm of noise, the far half to one side
     dash[k].x() += k < dash.size() / 2 ? -0.03f : 0.03f;
   for (int i = 0; i < 3; ++i) t.update(f, marker(heading, -1.8, 3, 40, 0.5), dash, tp);
-  EXPECT_NEAR(t.lateral(1, 11.0), 1.8 + heading(11.0), 0.05);
-  EXPECT_NEAR(t.lateral(1, 30.0), 1.8 + heading(30.0), 0.15);
+  EXPECT_NEAR(t.lateral(1, 11.0), -1.8 - heading(11.0), 0.05);
+  EXPECT_NEAR(t.lateral(1, 30.0), -1.8 - heading(30.0), 0.15);
 }
 
 TEST(LaneTracker, ARoadEdgeIsReportedLessFarBeyondItsEvidence) {
   LaneTracker t;
-  const PlaneFrame f = PlaneFrame::fromPlane(road());
+  const RoadFrame f = RoadFrame::fromPlane(road());
   TrackerParams tp;
   t.update(f, marker(straight, -1.8, 3, 30), marker(straight, 1.8, 4, 10), tp);
   std::vector<Eigen::Vector3f> out;
@@ -201,11 +189,11 @@ TEST(LaneTracker, ARoadEdgeIsReportedLessFarBeyondItsEvidence) {
 TEST(LaneTracker, InvalidFrameAgesWithoutCrashing) {
   LaneTracker t;
   TrackerParams tp;
-  t.update(PlaneFrame(), marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
+  t.update(RoadFrame(), marker(straight, -1.8, 3, 20), marker(straight, 1.8, 3, 20), tp);
   EXPECT_FALSE(t.valid(0));
   EXPECT_FALSE(t.valid(1));
   std::vector<Eigen::Vector3f> out(3);
-  t.sample(0, PlaneFrame::fromPlane(road()), 0.5, out);
+  t.sample(0, RoadFrame::fromPlane(road()), 0.5, out);
   EXPECT_TRUE(out.empty());
 }
 

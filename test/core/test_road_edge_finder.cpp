@@ -55,7 +55,7 @@ TEST(RoadEdgeFinder, KerbWithASidewalkIsTheRoadsEdge) {
   f.find(scene, scene.render());
   ASSERT_TRUE(f.right.found);
   EXPECT_FALSE(f.left.found);
-  EXPECT_NEAR(f.right.offset, 2.6, 0.05);
+  EXPECT_NEAR(f.right.offset, -2.6, 0.05);  // y left
   EXPECT_NEAR(f.right.heading, 0.0, 0.01);
   ASSERT_GE(f.right.pixels.size(), 8u);
   ASSERT_EQ(f.right.pixels.size(), f.right.points.size());
@@ -97,7 +97,7 @@ TEST(RoadEdgeFinder, SparseAndNoisyDepthStillFindTheKerb) {
   Fixture f;
   f.find(scene, scene.render());
   ASSERT_TRUE(f.left.found);
-  EXPECT_NEAR(f.left.offset, -2.2, 0.1);
+  EXPECT_NEAR(f.left.offset, 2.2, 0.1);
   EXPECT_FALSE(f.right.found);
 }
 

@@ -71,7 +71,7 @@ bool sequenceMount(const std::vector<tools::DatasetFrame>& frames, Eigen::Isomet
   plane.valid = true;
   plane.normal = Eigen::Vector3d(median(nx), median(ny), median(nz)).normalized();
   plane.distance = median(d);
-  T = roadAlignedFrame(plane);
+  T = RoadFrame::fromPlane(plane).roadFromCamera();
   return true;
 }
 

@@ -1,0 +1,329 @@
+// The candidates' classification, and the lines followed on the image: painted lines and road
+// edges followed row by row from their traces, short traces from their seeds, the tracked painted
+// lines where the lane model predicts them, and the road edges the depth shows.
+#include "rgbd_lane_detector/boundary_candidates.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rgbd_lane_detector {
+namespace {
+
+constexpr double kFollowGap = 13.0;  // m: dash gaps a followed line crosses (9-12 m on motorways)
+constexpr double kSeedReach = 0.3;   // m: a seed's paint is sought this far either side of it
+constexpr double kSeedSpan = 1.0;    // m: the line through a seed starts this far either side
+constexpr double kMaxSeedHeading = 25.0 * M_PI / 180.0;  // a followed seed's line runs ahead within this
+constexpr double kStrokeGap = 1.0;     // m without paint between two dashes of a followed line
+constexpr double kRowsPerGap = 2.5;    // ... and more than this many image rows' road
+constexpr double kStrokeLength = 8.0;  // m: one stretch of paint this long is a line (no arrow)
+constexpr double kDashGap = 2.0;       // m without a narrow band between two dashes of worn paint
+constexpr int kMinDashes = 2;          // dashes that tell worn paint from a rail ...
+constexpr double kMaxDashCoverage = 0.6;  // ... where they cover at most this share of the line
+constexpr double kDashRange = 25.0;    // m ahead within which the dashes are counted
+constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
+constexpr double kEdgeReach = 0.3;   // m: a traced road edge this near a depth edge is the same
+constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
+
+// Road-plane coordinates (forward, lateral left) of the input pixel (u, v): its ray met with the
+// road plane of @p f in @p frame; false where the ray does not meet the road ahead.
+bool roadCoordinates(const CandidateFrame& f, const RoadFrame& frame, double u, double v,
+                     Eigen::Vector2d& q) {
+  const Eigen::Vector3d ray = f.K.ray(u, v);
+  double z = 0.0;
+  if (!rayPlaneDepth(*f.road, ray, z)) return false;
+  q = frame.toRoad(ray * z);
+  return true;
+}
+
+// A trace cut short by the classifier (cutAtObject: the line ends at a vehicle) keeps its
+// points and scores for its pixels only.
+void matchLengths(MarkerTrace& m) {
+  if (m.points.size() > m.pixels.size()) m.points.resize(m.pixels.size());
+  if (m.scores.size() > m.pixels.size()) m.scores.resize(m.pixels.size());
+}
+
+}  // namespace
+
+void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
+  if (!params_.classify_boundaries || f.road == nullptr || !f.road->valid) {
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < counts_[side]; ++k) {
+        BoundaryEvidence& ev = candidates_[side][k].evidence;
+        ev = BoundaryEvidence();
+        ev.boundary = true;  // unclassified: every traced line is taken as paint
+        ev.margin = 0.5f;
+      }
+    return;
+  }
+  classifierInputOf(f, *f.road, classifier_input_);
+  const ClassifierInput& in = classifier_input_;
+  for (int side = 0; side < 2; ++side)
+    for (int k = 0; k < counts_[side]; ++k) {
+      BoundaryCandidate& c = candidates_[side][k];
+      if (static_cast<int>(c.trace.pixels.size()) < params_.min_marker_points)
+        followFromSeed(f, side == 0, c.trace);
+      classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+      matchLengths(c.trace);
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+          c.evidence.narrow_rows >= c.evidence.rows / 2)
+        dashedNarrowLine(f, side, c);
+      // a painted line: on the paint's centre, row by row, and as far as it goes
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
+        classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
+                               params_.max_depth);
+        if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_)) matchLengths(c.trace);
+        if (loneStroke(f, c.trace.pixels) && classifier_.arrowHead(in, c.trace.pixels, params_)) {
+          c.evidence.boundary = false;
+          c.evidence.reason = "lane arrow";
+          continue;
+        }
+        classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
+        // a trace where depth is missing (near the car) told its kind by colour alone: the line
+        // followed into the depth tells it again (a kerb's bright top is no paint)
+        if (!std::isfinite(c.evidence.line_height)) {
+          classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+          matchLengths(c.trace);
+        }
+      }
+      // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
+      // rail: its head is it)
+      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+          c.evidence.narrow_rows < c.evidence.rows / 2)
+        classifier_.followEdge(in, c.trace.pixels, c.trace.points, side == 0, params_, kEdgeGap,
+                               params_.max_depth);
+    }
+  followPredictedLines(f);
+  addRoadEdgesFromDepth(f);
+}
+
+int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
+                                            const std::vector<cv::Point2f>& pixels, double gap,
+                                            double* extent, double* painted,
+                                            double max_forward) const {
+  int stretches = 0;
+  double near_f = std::numeric_limits<double>::infinity(), far_f = -near_f, last_f = 0.0;
+  double start_f = 0.0, covered = 0.0;
+  const RoadFrame& frame = classifier_input_.frame;
+  for (const auto& px : pixels) {  // near to far
+    Eigen::Vector2d q, q1;
+    if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
+    const double fwd = q.x();
+    if (fwd > max_forward) continue;
+    // far away one image row spans more road than the gap: rows found on neighbouring rows
+    // are one stretch (kRowsPerGap rows without paint make a gap there)
+    const double row_m = roadCoordinates(f, frame, px.x, px.y - 1.0, q1)
+                             ? std::fabs(q1.x() - fwd)
+                             : std::numeric_limits<double>::infinity();
+    if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {
+      if (stretches > 0) covered += std::fabs(last_f - start_f);
+      ++stretches;
+      start_f = fwd;
+    }
+    last_f = fwd;
+    near_f = std::min(near_f, fwd);
+    far_f = std::max(far_f, fwd);
+  }
+  if (stretches > 0) covered += std::fabs(last_f - start_f);
+  if (extent) *extent = stretches > 0 ? far_f - near_f : 0.0;
+  if (painted) *painted = covered;
+  return stretches;
+}
+
+bool BoundaryCandidateFinder::followed(const ClassifierInput& in, double reach) {
+  // seed_pixels_ followed row by row; the rows found replace them (with their points) only when
+  // there are enough of them
+  const int found = classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap,
+                                           params_.max_depth, reach);
+  return found >= std::max(params_.min_marker_points, 3) &&
+         seed_points_.size() == seed_pixels_.size();
+}
+
+bool BoundaryCandidateFinder::runsAhead(const CandidateFrame& f,
+                                         const std::vector<cv::Point2f>& pixels) const {
+  // from its nearest to its farthest row, in road coordinates
+  Eigen::Vector2d a(0.0, 0.0), b(0.0, 0.0);
+  bool have = false;
+  for (const auto& px : pixels) {
+    Eigen::Vector2d q;
+    if (!roadCoordinates(f, classifier_input_.frame, px.x, px.y, q)) continue;
+    if (!have) a = q;
+    b = q;
+    have = true;
+  }
+  const Eigen::Vector2d t = b - a;
+  return have && t.x() > 0.0 && std::fabs(t.y()) <= std::tan(kMaxSeedHeading) * t.x();
+}
+
+bool BoundaryCandidateFinder::loneStroke(const CandidateFrame& f,
+                                          const std::vector<cv::Point2f>& pixels) const {
+  // paint on two stretches (dashes) or over a length no arrow has is a lane line
+  double extent = 0.0;
+  return paintStretches(f, pixels, kStrokeGap, &extent) < 2 && !(extent >= kStrokeLength);
+}
+
+void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side,
+                                               BoundaryCandidate& c) {
+  // a rail head runs on without a break; a line narrower than paint that comes in dashes is worn
+  // paint (the bright core of a faded dash measures a few centimetres)
+  seed_pixels_.assign(c.trace.pixels.begin(), c.trace.pixels.end());
+  seed_points_.clear();
+  const ClassifierInput& in = classifier_input_;
+  double extent = 0.0, painted = 0.0;
+  if (!followed(in, BoundaryClassifier::kTraceReach)) return;
+  // within kDashRange, where a rail head is resolved on every row (farther, any thin line
+  // breaks up)
+  const int dashes = paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange);
+  if (dashes < kMinDashes || painted > kMaxDashCoverage * extent) return;
+  c.trace.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
+  c.trace.points.assign(seed_points_.begin(), seed_points_.end());
+  c.trace.scores.resize(c.trace.pixels.size(), c.trace.peak_score);
+  c.evidence.kind = BoundaryKind::kPaint;
+  c.evidence.reason = "narrow dashes (worn paint)";
+  (void)side;
+}
+
+bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m) {
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  if (!(m.peak_score > params_.trace_threshold) || m.seed.x < 0.f) return false;
+  // the seed lies on the road where the depth measures it (a match without depth, on a wall, a
+  // car or a kerb top, or where the road plane only fills missing depth, is followed nowhere)
+  const Eigen::Vector3f& sp = m.seed_point;
+  if (!sp.allFinite() || std::fabs(f.road->normal.cast<float>().dot(sp) +
+                                   static_cast<float>(f.road->distance)) > params_.kerb_height)
+    return false;
+  if (f.filled != nullptr) {
+    const int px = static_cast<int>(std::lround((m.seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5));
+    const int py = static_cast<int>(std::lround((m.seed.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5));
+    if (px >= 0 && py >= 0 && px < f.filled->cols && py < f.filled->rows && f.filled->at<uint8_t>(py, px) != 0)
+      return false;
+  }
+  Eigen::Vector2d q;
+  if (!roadCoordinates(f, in.frame, m.seed.x, m.seed.y, q)) return false;
+  // an ego-lane boundary's distance beside the camera (lateral: + left)
+  const double beside = left ? q.y() : -q.y();
+  if (beside < params_.boundary_offset_min || beside > params_.boundary_offset_max) return false;
+  // the line through the seed straight ahead on the road (ego-lane lines run with the vehicle)
+  seed_pixels_.clear();
+  seed_points_.clear();
+  for (double df : {-kSeedSpan, 0.0, kSeedSpan}) {
+    const Eigen::Vector3d p = in.frame.toCamera(q.x() + df, q.y());
+    if (!(p.z() > 0.1)) continue;
+    seed_pixels_.emplace_back(f.K.project(p));
+  }
+  if (seed_pixels_.size() < 2 || !followed(in, kSeedReach)) return false;
+  if (loneStroke(f, seed_pixels_) || !runsAhead(f, seed_pixels_)) return false;
+  m.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
+  m.points.assign(seed_points_.begin(), seed_points_.end());
+  m.scores.assign(m.pixels.size(), m.peak_score);
+  m.num_valid_points = 0;
+  for (const auto& p : m.points) m.num_valid_points += !std::isnan(p.z());
+  return true;
+}
+
+template <typename Lateral>
+bool BoundaryCandidateFinder::candidateOnLine(const CandidateFrame& f, int side, BoundaryKind kind,
+                                              const RoadFrame& frame, double reach,
+                                              Lateral&& lateral) const {
+  for (int k = 0; k < counts_[side]; ++k) {
+    const BoundaryCandidate& c = candidates_[side][k];
+    if (!c.evidence.boundary || c.evidence.kind != kind) continue;
+    int near = 0, total = 0;
+    for (const auto& px : c.trace.pixels) {
+      Eigen::Vector2d q;
+      if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
+      ++total;
+      if (std::fabs(q.y() - lateral(q.x())) <= reach) ++near;
+    }
+    if (total >= params_.min_marker_points && near >= 0.6 * total) return true;
+  }
+  return false;
+}
+
+void BoundaryCandidateFinder::followPredictedLines(const CandidateFrame& f) {
+  const PlaneEstimate& previous = f.fitter->previousPlane();
+  if (!params_.track_lanes || !previous.valid) return;
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  const RoadFrame frame = RoadFrame::fromPlane(*f.road);
+  const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
+  const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
+  for (int side = 0; side < 2; ++side) {
+    if (!f.fitter->tracker().valid(side) || f.fitter->sideKind(side) != BoundaryKind::kPaint)
+      continue;
+    const LaneTracker& tracker = f.fitter->tracker();
+    if (candidateOnLine(f, side, BoundaryKind::kPaint, frame, kPredictedReach,
+                        [&](double f) { return tracker.lateral(side, f); }))
+      continue;  // the seeds found it: nothing to add
+    BoundaryCandidate& c = next(side);
+    MarkerTrace& m = c.trace;
+    m.pixels.clear();
+    m.points.clear();
+    m.scores.clear();
+    f.fitter->tracker().sample(side, frame, 1.0, samples_);
+    for (const auto& q : samples_) {
+      if (!(q.z() > 0.1f)) continue;
+      const cv::Point2f px(f.K.project(q));
+      m.pixels.push_back(px);
+      m.points.push_back(pointAt(f, cv::Point2f(static_cast<float>((px.x + 0.5) * sx - 0.5),
+                                                static_cast<float>((px.y + 0.5) * sy - 0.5))));
+      m.scores.push_back(0.f);
+    }
+    if (m.pixels.size() < 2) continue;
+    if (classifier_.followLine(in, m.pixels, m.points, params_, kFollowGap, params_.max_depth,
+                               kPredictedReach) < params_.min_marker_points)
+      continue;
+    classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    matchLengths(m);
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    m.found = false;
+    m.kind = BoundaryKind::kPaint;
+    m.peak_score = static_cast<float>(params_.trace_threshold);
+    m.seed = m.pixels.front();
+    m.seed_point = m.points.front();
+    m.angle_valid = false;
+    m.num_valid_points = static_cast<int>(m.points.size());
+    for (size_t i = 0; i < m.scores.size(); ++i) m.scores[i] = m.peak_score;
+    m.scores.resize(m.pixels.size(), m.peak_score);
+    ++counts_[side];
+  }
+}
+
+void BoundaryCandidateFinder::addRoadEdgesFromDepth(const CandidateFrame& f) {
+  RoadEdgeSettings s;
+  s.kerb_height = params_.kerb_height;
+  s.offset_min = params_.boundary_offset_min;
+  s.offset_max = params_.boundary_offset_max;
+  s.max_range = std::max(params_.road_fit_range, 1.0);
+  s.normal_window = params_.normal_window;
+  edge_finder_.find(*f.points, f.filled, f.roi_rows, f.K, *f.col_map, *f.row_map, *f.road, s,
+                    depth_edges_[0], depth_edges_[1]);
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  for (int side = 0; side < 2; ++side) {
+    const RoadEdgeLine& e = depth_edges_[side];
+    if (!e.found) continue;
+    const double a = e.offset, b = std::tan(e.heading);
+    if (candidateOnLine(f, side, BoundaryKind::kRoadEdge, in.frame, kEdgeReach,
+                        [a, b](double f) { return a + b * f; }))
+      continue;  // traced already
+    BoundaryCandidate& c = next(side);
+    MarkerTrace& m = c.trace;
+    m.found = false;
+    m.kind = BoundaryKind::kRoadEdge;
+    m.pixels.assign(e.pixels.begin(), e.pixels.end());
+    m.points.assign(e.points.begin(), e.points.end());
+    m.scores.assign(e.pixels.size(), static_cast<float>(params_.trace_threshold));
+    m.peak_score = static_cast<float>(params_.trace_threshold);
+    m.seed = m.pixels.front();
+    m.seed_point = m.points.front();
+    m.angle_valid = false;
+    m.num_valid_points = static_cast<int>(m.points.size());
+    // (its rows are the depth's own measurement of the edge: not moved by the colours, which a
+    // gutter's leaves or an overexposed kerb mislead)
+    classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    matchLengths(m);
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kRoadEdge) continue;
+    ++counts_[side];
+  }
+}
+
+}  // namespace rgbd_lane_detector
