@@ -43,6 +43,7 @@ DURATION_HD=${DURATION_HD:-60}
 WARMUP=${WARMUP:-3}
 BAG_SECONDS=${BAG_SECONDS:-10}
 CONFIG=${CONFIG:-$ROOT/config/improved.yaml}
+QUEUE_SIZE=${QUEUE_SIZE:-}  # set: the config with this queue_size (a copy under OUT)
 WS=${WS:-$ROOT/build/ws}
 OUT=${OUT:-$ROOT/build/measure_transport}
 
@@ -54,6 +55,11 @@ TOOL=$WS/devel/lib/rgbd_lane_detector/transport_bag
 [ -x "$TOOL" ] || { echo "measure_transport: $TOOL not built" >&2; exit 1; }
 
 mkdir -p "$OUT/logs" "$OUT/runs"
+if [ -n "$QUEUE_SIZE" ]; then
+  sed "s/^queue_size:.*/queue_size: $QUEUE_SIZE/" "$CONFIG" > "$OUT/config.yaml"
+  grep -q "^queue_size:" "$OUT/config.yaml" || echo "queue_size: $QUEUE_SIZE" >> "$OUT/config.yaml"
+  CONFIG=$OUT/config.yaml
+fi
 rm -f "$OUT"/runs/*.json
 
 PIDS=()
@@ -88,9 +94,9 @@ start "$OUT/logs/roscore.log" roscore -p "$PORT"
 CORE=$STARTED
 until rosparam list > /dev/null 2>&1; do sleep 0.2; done
 
-wait_topic() {  # wait_topic TOPIC TIMEOUT: until the topic has a publisher
+wait_subscriber() {  # wait_subscriber TOPIC TIMEOUT: until the topic has a subscriber
   local t0=$SECONDS
-  until rostopic info "$1" 2> /dev/null | grep -A1 "^Publishers:" | grep -q "^ \* "; do
+  until rostopic info "$1" 2> /dev/null | grep -A1 "^Subscribers:" | grep -q "^ \* "; do
     [ $((SECONDS - t0)) -lt "$2" ] || return 1
     sleep 0.3
   done
@@ -136,6 +142,7 @@ run_player() {  # run_player CASE W H RATE DURATION
   wait "$probe" 2> /dev/null || true
   stop
   meta "$json" case="$case" size="${w}x${h}" rate="$rate" duration="$dur" load="$load" \
+    queue_size="$(sed -n 's/^queue_size: *\([0-9]*\).*/\1/p' "$CONFIG")" \
     load_end="$(cut -d' ' -f1-3 /proc/loadavg)"
 }
 
@@ -149,7 +156,8 @@ run_bag() {  # run_bag CASE W H RATE BAG
   echo "measure_transport: $id (bag ${BAG_SECONDS} s at -r $factor; load $load)"
   rm -f "$done_file"
   start "$OUT/logs/$id.probe.log" $PYTHON "$ROOT/bench/transport_probe.py" --mode bag \
-    --out "$json" --done-file "$done_file" --timeout $((BAG_SECONDS * 3 + 120))
+    --out "$json" --done-file "$done_file" --timeout $((BAG_SECONDS * 3 + 120)) \
+    --subscribe /camera/lane_plane
   local probe=$STARTED
   if [ "$case" = bag_node ]; then
     start "$OUT/logs/$id.launch.log" roslaunch "$ROOT/launch/lane_detector_node.launch" \
@@ -157,11 +165,9 @@ run_bag() {  # run_bag CASE W H RATE BAG
   else
     start "$OUT/logs/$id.launch.log" roslaunch "$ROOT/launch/lane_detector.launch" config:="$CONFIG"
   fi
-  wait_topic /camera/lane_plane 60 || echo "measure_transport: $id: no lane_plane" >&2
-  # lane_plane subscribed (the nodelet subscribes its inputs when an output has a subscriber)
-  start "$OUT/logs/$id.plane.log" rostopic hz /camera/lane_plane
-  until rostopic info /camera/rgb/image_rect_color 2> /dev/null | grep -A1 "^Subscribers:" |
-      grep -q "^ \* "; do sleep 0.2; done
+  # the probe subscribes lane_plane, so the nodelet subscribes its inputs: wait for that
+  wait_subscriber /camera/rgb/image_rect_color 60 ||
+    echo "measure_transport: $id: the detector did not subscribe its input" >&2
   local p0 p1
   p0=$(date +%s.%N)
   rosbag play --quiet -r "$factor" "$bag" > "$OUT/logs/$id.play.log" 2>&1 || true
@@ -170,6 +176,7 @@ run_bag() {  # run_bag CASE W H RATE BAG
   wait "$probe" 2> /dev/null || true
   stop
   meta "$json" case="$case" size="${w}x${h}" rate="$rate" load="$load" \
+    queue_size="$(sed -n 's/^queue_size: *\([0-9]*\).*/\1/p' "$CONFIG")" \
     load_end="$(cut -d' ' -f1-3 /proc/loadavg)" \
     bag_frames="$((BAG_SECONDS * 30))" \
     play_seconds="$($PYTHON -c "print(round($p1 - $p0, 2))")" \

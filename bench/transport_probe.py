@@ -31,10 +31,13 @@ def main():
     ap.add_argument("--summary-topic", default="/camera/frame_player/summary")
     ap.add_argument("--done-file", default="")
     ap.add_argument("--timeout", type=float, default=300.0)
+    ap.add_argument("--subscribe", default="",
+                    help="also subscribe to this output (any type) and count its messages "
+                         "(bag runs: the nodelet computes nothing without a subscriber)")
     args = ap.parse_args(rospy.myargv()[1:])
     rospy.init_node("transport_probe", anonymous=True, disable_signals=True)
 
-    state = {"reports": [], "summary": None, "windows": []}
+    state = {"reports": [], "summary": None, "windows": [], "outputs": 0}
 
     def on_diag(msg):
         for st in msg.status:
@@ -55,6 +58,10 @@ def main():
         state["summary"] = values(msg)
 
     rospy.Subscriber("/diagnostics", DiagnosticArray, on_diag, queue_size=50)
+    if args.subscribe:
+        def on_output(_msg):
+            state["outputs"] += 1
+        rospy.Subscriber(args.subscribe, rospy.AnyMsg, on_output, queue_size=100)
     if args.mode == "player":
         rospy.Subscriber(args.summary_topic, DiagnosticStatus, on_summary, queue_size=1)
 
@@ -81,6 +88,7 @@ def main():
         "accounting": state["reports"][-1] if state["reports"] else {},
         "windows": state["windows"],
         "summary": state["summary"],
+        "outputs": state["outputs"] if args.subscribe else None,
     }
     with open(args.out, "w") as f:
         json.dump(result, f, indent=1)

@@ -52,11 +52,14 @@ def row(r):
         "received": received, "lost_before": lost_before, "not_synchronised": not_sync,
         "dropped": dropped, "processed": processed, "waiting": waiting,
         "callback_ms": cb_mean, "callback_max_ms": max(mx) if mx else None, "detect_ms": det_mean,
-        "load": r.get("load"), "settled": r.get("settled"),
+        "load": r.get("load"), "settled": r.get("settled"), "queue_size": r.get("queue_size"),
+        "outputs": r.get("outputs"),
     }
     if summ:
         pub_measured = num(summ.get("published"))
         pub_all = (pub_measured or 0) + (num(summ.get("warmup_published")) or 0)
+        out["outputs"] = ((num(summ.get("outputs")) or 0) + (num(summ.get("warmup_published")) or 0)
+                          - (num(summ.get("warmup_lost")) or 0))
         out.update({
             "published": pub_all, "published_measured": pub_measured,
             "outputs_measured": num(summ.get("outputs")), "lost_measured": num(summ.get("lost")),
@@ -104,13 +107,14 @@ def main():
              "never came back (issue 23's figure). Latency: now - header.stamp when lane_plane "
              "reaches the player (same clock; player rows only). *cb* = the nodelet's mean "
              "callback time (processing + ROS overhead), *detect()* its core part, means of the "
-             "diagnostics windows.")
+             "diagnostics windows; *queue*: the nodelet's queue_size (subscribers and synchroniser). "
+             "*lane_plane out*: outputs counted by the player (or, for bags, by the probe).")
     L.append("")
     L.append("| case | size | Hz | published | received | lost before | not sync | dropped | "
-             "processed | lost after warm-up | latency mean / p50 / p99 / max ms | cb / detect() ms "
-             "| cb max ms | load |")
-    L.append("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- | ---: "
-             "| --- |")
+             "processed | lane_plane out | lost after warm-up | latency mean / p50 / p99 / max ms | cb / detect() ms "
+             "| cb max ms | queue | load |")
+    L.append("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- | ---: "
+             "| ---: | --- |")
     for r in rows:
         if r.get("latency_mean_ms") is not None and r.get("published_measured"):
             lat = " / ".join(fmt(r.get(k)) for k in ("latency_mean_ms", "latency_p50_ms",
@@ -126,9 +130,10 @@ def main():
             CASES.get(r["case"], r["case"] or "?"), r["size"] or "?", str(r["rate"]),
             fmt(r.get("published"), 0), fmt(r.get("received"), 0), fmt(r.get("lost_before"), 0),
             fmt(r.get("not_synchronised"), 0), fmt(r.get("dropped"), 0),
-            fmt(r.get("processed"), 0), lost_m, lat,
+            fmt(r.get("processed"), 0), fmt(num(r.get("outputs")), 0), lost_m, lat,
             f"{fmt(r.get('callback_ms'), 2)} / {fmt(r.get('detect_ms'), 2)}",
-            fmt(r.get("callback_max_ms"), 1), r.get("load") or "-"]) + " |")
+            fmt(r.get("callback_max_ms"), 1), r.get("queue_size") or "-",
+            r.get("load") or "-"]) + " |")
     target = [r for r in rows if r["case"] == "manager" and r["size"] == "1920x1080"
               and str(r["rate"]) == "30"]
     if target:

@@ -73,4 +73,4 @@ class FramePlayerTest(unittest.TestCase):
 
 if __name__ == "__main__":
     rospy.init_node("frame_player_check")
-    rostest.rosrun("rgbd_lane_detector", "frame_player", FramePlayerTest, sys.argv)
+    rostest.rosrun("rgbd_lane_detector", "frame_player_check", FramePlayerTest, sys.argv)
