@@ -12,14 +12,17 @@
 namespace rgbd_lane_detector {
 
 /**
- * @brief dst(y, x) = src(row_map[y], col_map[x]), every channel (nearest-neighbour resampling).
+ * @brief dst(y, x) = src(row_map[y], col_map[x]), every channel (nearest-neighbour resampling),
+ * for the dst rows @p rows (all when empty).
  * @param[in] src CV_8U image of any channel count.
  * @param[in] col_map,row_map CV_32SC1 rows: the source column of each dst column, the source row
  *            of each dst row.
- * @param[out] dst created (src's type, row_map's length x col_map's length); no allocation once
- *             sized.
+ * @param[out] dst created (src's type, row_map's length x col_map's length; zero when allocated,
+ *             so rows never resampled read as 0); no allocation once sized.
+ * @param[in] rows dst rows to resample.
  */
-void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row_map, cv::Mat& dst);
+void remapNearest(const cv::Mat& src, const cv::Mat& col_map, const cv::Mat& row_map, cv::Mat& dst,
+                  const cv::Range& rows = cv::Range::all());
 
 /**
  * @brief A match on a surface off the lane plane (a truck's stripe, a guard rail) cannot be a road

@@ -117,6 +117,9 @@ class RoadSurface {
   /// near_ and far_ from every @p stride-th pixel of every stride-th row (and the corridor).
   void collectGrid(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
                    int stride);
+  /// The samples within fit_range collectGrid() would find on the grid of @p stride.
+  int nearGridCount(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
+                    int stride) const;
   bool plausible(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
   /// Weighted count of the near samples within the band of (n, d).
   double score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
@@ -135,6 +138,7 @@ class RoadSurface {
   std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
   std::vector<float> ratios_;
   std::vector<int> fill_from_;  ///< extendToCamera(): per column, the first row to fill
+  std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays
   double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;
   uint32_t rng_ = 1;

@@ -172,10 +172,30 @@ void LaneDetector::fitLane(Result& result) {
 
 void LaneDetector::preprocess(const Frame& frame) {
   const StageTimer timer(timings_.preprocess);
+  const bool scaled = !col_map_.empty();
+  if (params_.classify_boundaries) {
+    // the classifier measures profiles on the input image: its grey over the searched rows
+    const double sy = static_cast<double>(input_size_.height) / proc_size_.height;
+    grey_input_rows_ = cv::Range(
+        std::max(0, static_cast<int>(std::floor(roi_rows_.start * sy))),
+        std::min(input_size_.height, static_cast<int>(std::ceil(roi_rows_.end * sy))));
+  }
+  if (scaled && params_.classify_boundaries) {
+    // the processing grey is the input's grey resampled (grey is per pixel: the same values as
+    // the grey of the resampled colour), so the colour itself is never resampled
+    halfBinary(frame.colour, frame.format, 0, grey_input_rows_, grey_input_);
+    remapNearest(grey_input_, col_map_, row_map_, grey_, roi_rows_);
+    if (params_.adaptive_tau_c)
+      applyRowThreshold(grey_, half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_,
+                        params_.paint_contrast);
+    else  // the half-binary image of a grey image: its pixels at tau_c or above
+      halfBinary(grey_, PixelFormat::kMono8, params_.tau_c, roi_rows_, half_binary_);
+    return;
+  }
   resampleColour(frame);
-  const cv::Mat& colour = col_map_.empty() ? frame.colour : colour_small_;
+  const cv::Mat& colour = scaled ? colour_small_ : frame.colour;
   // the grey image (a half-binary image at threshold 0) when the adaptive threshold or the
-  // classifier reads it
+  // classifier reads it (unscaled: the classifier's grey is this one)
   const bool grey = params_.adaptive_tau_c || params_.classify_boundaries;
   if (grey) halfBinary(colour, frame.format, 0, roi_rows_, grey_);
   if (params_.adaptive_tau_c) {
@@ -185,13 +205,6 @@ void LaneDetector::preprocess(const Frame& frame) {
   } else {
     halfBinary(colour, frame.format, params_.tau_c, roi_rows_, half_binary_);
   }
-  if (!params_.classify_boundaries) return;
-  // the classifier measures profiles on the input image: its grey over the searched rows
-  const double sy = static_cast<double>(input_size_.height) / proc_size_.height;
-  grey_input_rows_ = cv::Range(
-      std::max(0, static_cast<int>(std::floor(roi_rows_.start * sy))),
-      std::min(input_size_.height, static_cast<int>(std::ceil(roi_rows_.end * sy))));
-  if (!col_map_.empty()) halfBinary(frame.colour, frame.format, 0, grey_input_rows_, grey_input_);
 }
 
 void LaneDetector::computePoints(const Frame& frame) {

@@ -59,11 +59,43 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
   const double area = static_cast<double>(height) * points.cols;
   int stride =
       std::max(1, static_cast<int>(std::lround(std::sqrt(area / std::max(s.target_samples, 1)))));
-  collectGrid(points, rows, s, stride);
-  while (stride > 1 && 2 * near_.size() < static_cast<size_t>(s.target_samples)) {
+  // the grid chosen by counting its samples (collectGrid() also scans the far corridor: only
+  // once, on the chosen grid, unless the count cannot tell without it)
+  for (;;) {
+    if (stride == 1) {  // the finest grid: no count decides anything
+      collectGrid(points, rows, s, stride);
+      return;
+    }
+    int count = nearGridCount(points, rows, s, stride);
+    const bool collected = count < kMinSamples;  // near_ depends on the far samples then
+    if (collected) {
+      collectGrid(points, rows, s, stride);
+      count = static_cast<int>(near_.size());
+    }
+    if (!(stride > 1 && 2 * count < s.target_samples)) {
+      if (!collected) collectGrid(points, rows, s, stride);
+      return;
+    }
     stride = std::max(1, stride / 2);
-    collectGrid(points, rows, s, stride);
   }
+}
+
+int RoadSurface::nearGridCount(const cv::Mat& points, const cv::Range& rows,
+                               const RoadSurfaceSettings& s, int stride) const {
+  const float fit_range = static_cast<float>(s.fit_range);
+  const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
+  int count = 0;
+  for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
+    const float* row = points.ptr<float>(y);
+    for (int x = stride / 2; x < points.cols; x += stride) {
+      const float* q = row + 3 * x;
+      // collectGrid()'s sample() within fit_range
+      if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
+        continue;
+      if (q[2] <= fit_range) ++count;
+    }
+  }
+  return count;
 }
 
 void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
@@ -382,18 +414,24 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
     fill_from_[x] = y + 1;
     first = std::min(first, y + 1);
   }
+  // each pixel's ray K.ray(u, v) from its column's and its row's part, and rayPlaneDepth()
+  // written out: the same operations in the same order (n . ray is (nx rx + ny ry) + nz 1)
+  fill_rx_.resize(w);
+  for (int x = 0; x < w; ++x) fill_rx_[x] = K.ray(cm ? cm[x] : x, 0.0).x();
+  const double nx = plane.normal.x(), ny = plane.normal.y(), nz = plane.normal.z();
   int count = 0;
   for (int v = first; v < r1; ++v) {
+    const double ry = K.ray(0.0, rm ? rm[v] : v).y();
     cv::Vec3f* row = points.ptr<cv::Vec3f>(v);
     uint8_t* mark = filled.ptr<uint8_t>(v);
     for (int x = 0; x < w; ++x) {
       if (v < fill_from_[x]) continue;
-      const Eigen::Vector3d ray = K.ray(cm ? cm[x] : x, rm ? rm[v] : v);
-      double t;
-      if (!rayPlaneDepth(plane, ray, t)) continue;  // the ray misses the road plane
+      const double den = (nx * fill_rx_[x] + ny * ry) + nz * 1.0;
+      if (!(den < -1e-9)) continue;  // the ray misses the road plane
       cv::Vec3f& p = row[x];
       if (!std::isnan(p[2])) continue;
-      p = cv::Vec3f(static_cast<float>(ray.x() * t), static_cast<float>(ray.y() * t),
+      const double t = -plane.distance / den;
+      p = cv::Vec3f(static_cast<float>(fill_rx_[x] * t), static_cast<float>(ry * t),
                     static_cast<float>(t));
       mark[x] = 255;
       ++count;
