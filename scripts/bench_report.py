@@ -197,7 +197,7 @@ def real_frames_section(json_path, bench_ns_per_px):
         w, h = (int(x) for x in d["label"].split("x")) if "x" in d["label"] else (0, 0)
         if w >= 1900:
             target = ("<= 8 ms: " + ("met" if d["cpu"] <= 8 else "NOT met"))
-        elif w >= 1200 and h >= 700:
+        elif 1200 <= w < 1400 and 680 <= h < 800:  # 1280x720 class
             target = ("<= 4 ms: " + ("met" if d["cpu"] <= 4 else "NOT met"))
         else:
             target = ""
