@@ -86,14 +86,7 @@ void BM_Detect(benchmark::State& state) {
   for (auto _ : state) {
     det.detect(d.frames[i++ % kFrames].frame(), r);
     benchmark::DoNotOptimize(r.plane.distance);
-    sum.preprocess += r.timings.preprocess;
-    sum.points += r.timings.points;
-    sum.normals += r.timings.normals;
-    sum.matching += r.timings.matching;
-    sum.response += r.timings.response;
-    sum.pca += r.timings.pca;
-    sum.tracing += r.timings.tracing;
-    sum.plane += r.timings.plane;
+    sum += r.timings;
   }
   using C = benchmark::Counter;
   state.counters["preprocess_ms"] = C(sum.preprocess, C::kAvgIterations);

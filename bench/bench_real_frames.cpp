@@ -90,17 +90,7 @@ void BM_Real_Detect(benchmark::State& state, std::shared_ptr<RealData> d, bool f
   for (auto _ : state) {
     det.detect(f, r);
     benchmark::DoNotOptimize(r.plane.distance);
-    sum.preprocess += r.timings.preprocess;
-    sum.points += r.timings.points;
-    sum.normals += r.timings.normals;
-    sum.matching += r.timings.matching;
-    sum.response += r.timings.response;
-    sum.road += r.timings.road;
-    sum.pca += r.timings.pca;
-    sum.tracing += r.timings.tracing;
-    sum.classify += r.timings.classify;
-    sum.plane += r.timings.plane;
-    sum.model += r.timings.model;
+    sum += r.timings;
   }
   using C = benchmark::Counter;
   const std::pair<const char*, double> stages[] = {

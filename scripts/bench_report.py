@@ -32,24 +32,34 @@ COUNTERS = [
 ]
 
 
-def load(path):
+def medians(path):
+    """(context, [(run name, time factor to ms, benchmark)]) of a bench_core JSON: the medians of
+    repeated runs, or the single runs."""
     with open(path) as f:
         data = json.load(f)
-    runs = {}
+    out = []
     for b in data["benchmarks"]:
         if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
             continue
-        m = re.match(r"(BM_[\w/]+?)/(\d+)", b.get("run_name", b["name"]))
+        unit = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
+        out.append((b.get("run_name", b["name"]), unit, b))
+    return data["context"], out
+
+
+def load(path):
+    context, runs_in = medians(path)
+    runs = {}
+    for name, unit, b in runs_in:
+        m = re.match(r"(BM_[\w/]+?)/(\d+)", name)
         if not m:
             continue
-        unit = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
         runs[(m.group(1), int(m.group(2)))] = {
             "cpu": b["cpu_time"] * unit,
             "real": b["real_time"] * unit,
             "counters": {k: v for k, v in b.items() if k.endswith("_ms")},
             "label": b.get("label", ""),
         }
-    return data["context"], runs
+    return context, runs
 
 
 def ms(v):
@@ -149,16 +159,11 @@ REAL_STAGES = [("preprocess_ms", "resample + half-binary"), ("points_ms", "point
 
 def load_real(path):
     """BM_Real_<kind>/<frame> medians of a bench_core JSON: {(kind, frame): run}."""
-    with open(path) as f:
-        data = json.load(f)
     runs = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
-            continue
-        m = re.match(r"BM_Real_(\w+)/(\w+)", b.get("run_name", b["name"]))
+    for name, unit, b in medians(path)[1]:
+        m = re.match(r"BM_Real_(\w+)/(\w+)", name)
         if not m:
             continue
-        unit = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
         runs[(m.group(1), m.group(2))] = {
             "cpu": b["cpu_time"] * unit, "label": b.get("label", ""),
             "pixels": b.get("pixels", 0.0), "scale": b.get("scale", 1.0),

@@ -219,6 +219,23 @@ struct StageTimings {
   double plane = 0.0;        ///< lane plane and boundary fit
   double model = 0.0;        ///< paint measurements and the lane model
   double total = 0.0;
+
+  /// Field by field sum (accumulating frames, e.g. for a mean per stage).
+  StageTimings& operator+=(const StageTimings& o) {
+    preprocess += o.preprocess;
+    points += o.points;
+    normals += o.normals;
+    matching += o.matching;
+    response += o.response;
+    road += o.road;
+    pca += o.pca;
+    tracing += o.tracing;
+    classify += o.classify;
+    plane += o.plane;
+    model += o.model;
+    total += o.total;
+    return *this;
+  }
 };
 
 /**

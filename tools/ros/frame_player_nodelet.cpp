@@ -35,6 +35,7 @@
 #include "frame_stats.h"
 #include "rgbd_lane_detector/LanePlane.h"
 #include "frame_source.h"
+#include "rgbd_lane_detector/ros/conversions.h"
 
 namespace rgbd_lane_detector {
 namespace tools {
@@ -171,16 +172,9 @@ class FramePlayerNodelet : public nodelet::Nodelet {
   }
 
   sensor_msgs::CameraInfo makeCameraInfo() const {
-    sensor_msgs::CameraInfo info;
-    info.header.frame_id = frame_id_;
-    info.width = static_cast<uint32_t>(width_);
-    info.height = static_cast<uint32_t>(height_);
-    info.distortion_model = "plumb_bob";
-    info.D.assign(5, 0.0);
-    info.K = {K_.fx, 0.0, K_.cx, 0.0, K_.fy, K_.cy, 0.0, 0.0, 1.0};
-    info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
-    info.P = {K_.fx, 0.0, K_.cx, 0.0, 0.0, K_.fy, K_.cy, 0.0, 0.0, 0.0, 1.0, 0.0};
-    return info;
+    std_msgs::Header header;
+    header.frame_id = frame_id_;
+    return conversions::cameraInfoFromIntrinsics(K_, width_, height_, header);
   }
 
   static boost::shared_ptr<sensor_msgs::Image> fill(const cv::Mat& m, const std::string& encoding,
