@@ -27,7 +27,7 @@ constexpr double kThrottle = 5.0;  // s between repeated per-frame warnings / er
 class LaneDetectorNodelet : public nodelet::Nodelet {
  public:
   ~LaneDetectorNodelet() override {
-    diagnostics_.reset();  // its timer first; then no input callback (they use the members)
+    if (diagnostics_) diagnostics_->stop();  // its timer first; then no input callback
     std::lock_guard<std::mutex> lock(connect_mutex_);
     if (inputs_) inputs_->unsubscribe();
   }

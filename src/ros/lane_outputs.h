@@ -55,7 +55,7 @@ class LaneOutputs {
  public:
   /// One frame's frames: see docs/NODELET.md (outputs, lane-model frame, images).
   struct Headers {
-    std_msgs::Header image;  ///< the colour image's (images: its optical frame)
+    const std_msgs::Header& image;  ///< the colour image's (images: its optical frame)
     std_msgs::Header out;    ///< the geometric outputs' (target_frame)
     std_msgs::Header model;  ///< the lane model's (lane_model_frame or the road frame)
   };

@@ -35,7 +35,9 @@ class NodeDiagnostics {
   /// @param subscribed whether the inputs are subscribed (called from the timer)
   NodeDiagnostics(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& name,
                   const NodeParams& params, std::function<bool()> subscribed);
-  ~NodeDiagnostics() { timer_.stop(); }
+  ~NodeDiagnostics() { stop(); }
+  /// No update after this (the owner's teardown: the status reads its subscription state).
+  void stop() { timer_.stop(); }
 
   FrameAccounting& accounting() { return accounting_; }
   /// A colour image reached the nodelet (its address is its identity until it is synchronised).
