@@ -494,6 +494,22 @@ def main():
 
     L.extend(lane_grid_section(a.json))
 
+    # bench_conversions (the nodelet's message reading against cv_bridge): measured once, kept
+    L.extend([
+        '## ROS conversions (cv_bridge)',
+        '',
+        "The nodelet reads each synchronised set with `conversions::frameFromMsgs()`: layout checks in 64-bit arithmetic, a `cv::Mat` header on `msg.data` through `msg.step`, intrinsics from P (else K). `bench_conversions` (bench/bench_conversions.cpp) does the same job with `cv_bridge::toCvShare` (passthrough encoding: zero copy too) and with image_geometry's `PinholeCameraModel::fromCameraInfo`, counting heap allocations (operator new) per frame; bgr8 + 16UC1, a 26-character frame_id; medians of 5 repetitions, CPU time, at `i24-ros` on the shared 2-core machine (load average 8):",
+        '',
+        '| messages | hand-written | cv_bridge | cv_bridge + image_geometry |',
+        '| --- | ---: | ---: | ---: |',
+        '| 640x380 | 0.13 us, 0 allocations | 9.3 us, 22 allocations | 11.4 us, 22 allocations |',
+        '| 1280x760 | 0.13 us, 0 allocations | 11.7 us, 22 allocations | 11.7 us, 22 allocations |',
+        '| 640x380, depth in the other byte order | 198 us, 0 allocations (reused buffer) | 318 us, 28 allocations | 312 us, 28 allocations |',
+        '',
+        "So the hand-written path stays: it is 70-90x faster and keeps the nodelet's steady state free of heap allocations (cv_bridge's `toCvShare` builds its `CvImage`, copies the header and parses the encoding strings, 22 allocations per set). cv_bridge's own checks would not replace ours either: it computes `height * step` in 32 bits and indexes `data[0]` of an empty image. Either way it is a few microseconds of a frame of milliseconds; image_geometry adds nothing for a rectified pinhole camera (fx, fy, cx, cy from P) but the same allocations.",
+        "",
+    ])
+
     L.append("## Memory")
     L.append("")
     L.append("- Allocations: test_allocations replaces malloc/calloc/realloc/memalign/"

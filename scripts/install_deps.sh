@@ -8,7 +8,7 @@ PACKAGES=(
   build-essential cmake git
   catkin catkin-lint ros-base-dev python3-catkin-pkg
   libnodeletlib-dev libnodeletlib-tools libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
-  libimage-transport-dev image-transport-tools libcv-bridge-dev python3-cv-bridge
+  libimage-transport-dev image-transport-tools libcv-bridge-dev python3-cv-bridge libimage-geometry-dev
   libmessage-filters-dev libtf2-ros-dev libtf2-eigen-dev libtf2-geometry-msgs-dev python3-tf2-ros
   libdiagnostic-updater-dev libcamera-calibration-parsers-dev libyaml-cpp-dev libvisualization-msgs-dev libnav-msgs-dev python3-nav-msgs
   libstereo-msgs-dev ros-stereo-image-proc libstereo-image-proc-dev ros-image-proc libimage-proc-dev
