@@ -42,7 +42,7 @@ std::string read(const std::string& relative) {
 
 TEST(NodeParams, DefaultsAreTheTablesAndRepairsAreSaid) {
   const NodeParams p;
-  EXPECT_EQ(p.queue_size, 5);
+  EXPECT_EQ(p.queue_size, 10);
   EXPECT_EQ(p.lane_model_frame, "base_link");
   NodeParams bad;
   bad.queue_size = 0;
