@@ -7,6 +7,11 @@
 #   BENCH_FILTER       Google Benchmark filter (default: everything)
 #   BENCH_NODELET      0 skips the nodelet measurement (bench/measure_nodelet.sh, needs the tools
 #                      and a ROS install; a few minutes)
+#   BENCH_TRANSPORT    0 skips the frames-on-the-way-in measurement (bench/measure_transport.sh:
+#                      a driver-like publisher, the standalone node and rosbag at 15 and 30 Hz,
+#                      640x480 to 1920x1080; needs ROS; RADIATE frames from ../shared/realdata,
+#                      a generated road without it; about 15 minutes);
+#                      its own environment (SIZES, RATES, CASES, QUICK=1, ...) passes through
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 export PATH=/usr/bin:/bin:$PATH
@@ -64,7 +69,18 @@ if [ "${BENCH_NODELET:-1}" != 0 ] && command -v roscore > /dev/null; then
   done
 fi
 
-/usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" "${NODELET[@]}" \
+# Frames lost on the way in and latency (bench/measure_transport.sh; issue 23's 30 Hz 1920x1080).
+TRANSPORT=()
+if [ "${BENCH_TRANSPORT:-1}" != 0 ] && command -v roscore > /dev/null; then
+  echo "bench: frames on the way in (bench/measure_transport.sh, log $OUT/transport.log)"
+  if OUT=$OUT/transport "$ROOT/bench/measure_transport.sh" > "$OUT/transport.log" 2>&1; then
+    TRANSPORT=(--transport "$OUT/transport/results.md")
+  else
+    echo "bench: measure_transport failed or skipped (see $OUT/transport.log)" >&2
+  fi
+fi
+
+/usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" "${NODELET[@]}" "${TRANSPORT[@]}" \
   --rss-kb "${RSS_KB:-0}" --stages-by-target "$STAGES_BY_TARGET" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
   --out "$ROOT/docs/PERFORMANCE.md" --plot "$ROOT/docs/performance.png"
 echo "bench: wrote docs/PERFORMANCE.md and docs/performance.png"

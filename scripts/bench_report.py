@@ -4,6 +4,7 @@
 Called by scripts/bench.sh; every figure in the document comes from the JSON of one run.
 """
 import argparse
+import os
 import json
 import re
 import sys
@@ -235,6 +236,8 @@ def main():
                     help="profile_core result lines, one per stage and target")
     ap.add_argument("--nodelet", action="append", default=[],
                     help="a result line of bench/measure_nodelet.sh")
+    ap.add_argument("--transport", default="",
+                    help="results.md of bench/measure_transport.sh (frames on the way in)")
     a = ap.parse_args()
     ctx, runs = load(a.json)
     if not runs:
@@ -531,6 +534,21 @@ def main():
                  "its peak RSS; wall times, OpenCV's default threads):")
         for line in a.nodelet:
             L.append(f"  - {line}")
+    L.append("")
+
+    L.append("## Frames on the way in")
+    L.append("")
+    if a.transport and os.path.exists(a.transport):
+        L.append("Where the frames of a 15-30 Hz RGB-D stream go between a camera driver (or "
+                 "rosbag) and the detector's outputs (bench/measure_transport.sh; how to read it "
+                 "and what was found: bench/TRANSPORT.md). Latency is wall time on this shared "
+                 "machine: each row carries the load average at its start.")
+        L.append("")
+        with open(a.transport) as f:
+            L.extend(f.read().rstrip("\n").split("\n"))
+    else:
+        L.append("Not measured in this run (`BENCH_TRANSPORT=0`, no ROS, or no "
+                 "../shared/realdata): `bench/measure_transport.sh`, bench/TRANSPORT.md.")
     L.append("")
 
     L.append("## How the core gets there")
