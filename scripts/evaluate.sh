@@ -41,12 +41,13 @@ HELDOUT_DIR="${HELDOUT_DIR:-$ROOT/build/data_seed$HELDOUT_SEED}"
 
 # scenario:sensor pairs of the standard set: the highway set, then the real-street failures
 # (kerb, tram rails, unpainted asphalt edge, intersections, crest and sag, yellow centre line),
-# a lane change and a sharp bend (radius 90 m)
+# a lane change, a sharp bend (radius 90 m), and a night motorway under low beams with a bonnet in
+# the bottom rows and a roof LiDAR's depth
 SEQUENCES=(
   summer:clean cloudy:clean fog:clean overpass:clean solid:clean dashed:clean shadows:clean
   lane_like_objects:clean no_markings:clean curve:clean summer:kinect summer:sparse
   kerb:clean tram_rails:clean road_edge:clean intersection:clean crest_sag:clean
-  yellow_centre:clean lane_change:clean sharp_bend:clean
+  yellow_centre:clean lane_change:clean sharp_bend:clean night_motorway:lidar
 )
 
 # shellcheck source=find_tool.sh

@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
                         "truth) and/or a rosbag.\nexample: generate_sequence --scenario fog "
                         "--sensor kinect --frames 300 --out build/data/fog_kinect");
   cl.add("scenario", "named scenario (see --list)", &scenario);
-  cl.add("sensor", "depth sensor model: clean, kinect, sparse", &sensor);
+  cl.add("sensor", "depth sensor model: clean, kinect, sparse, lidar", &sensor);
   cl.add("out", "output folder (SYNTHIA-SEQS layout)", &out);
   cl.add("frames", "number of frames (default 300)", &frames);
   cl.add("width", "image width (default 640; intrinsics scale with it)", &width);

@@ -39,6 +39,9 @@ struct FrameContext {
   Eigen::Vector3d sun = Eigen::Vector3d::UnitY();  ///< unit vector toward the sun (world)
   cv::Vec3d ambient_light, sun_light;              ///< RGB
   double gain = 1.0;                               ///< exposure of this frame
+  cv::Vec3d headlight_light{0, 0, 0};  ///< RGB irradiance of the road in the beam (0: off)
+  Eigen::Vector3d lamp = Eigen::Vector3d::Zero();  ///< world: between the two headlights
+  Eigen::Vector3d ahead = Eigen::Vector3d::UnitZ(), up = Eigen::Vector3d::UnitY();  ///< vehicle
   double rail_left = 0.0, rail_right = 0.0;        ///< lateral offsets of the rails
   bool flat_ground = true;  ///< plane y = 0 everywhere (every scenario of generator version 1)
   bool urban = false;       ///< kerb, asphalt edge, tram tracks or intersections present
@@ -64,6 +67,8 @@ struct FrameContext {
   cv::Vec3d groundAlbedo(const Hit& hit, double footprint) const;
   cv::Vec3d boxAlbedo(const Box& box, const BoxHit& h) const;
   double sunVisibility(const Eigen::Vector3d& p, int self_box) const;
+  /// Irradiance factor of the low beams at @p p on a surface of normal @p n (0 outside them).
+  double headlightFactor(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
   double canopyShadow(double x, double z, double t) const;
   /// Ground hit on a non-planar ground (vertical profile, kerb or asphalt edge zone).
   void traceGround(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double& best,

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "frame_context.h"
+#include "vehicle_view.h"
 #include "rgbd_lane_detector_tools/synth/noise.h"
 #include "scene_objects.h"
 
@@ -95,6 +96,8 @@ void fitPlane(const std::vector<Eigen::Vector3d>& pts, Eigen::Vector3d& n, doubl
   rms = std::sqrt(sum / pts.size());
 }
 
+constexpr double kLampHeight = 0.7;  // m, headlights above the road
+constexpr double kLampAhead = 1.8;   // m, headlights ahead of the camera
 }  // namespace
 
 Eigen::Matrix3d baseFromWorld(double yaw, double pitch) {
@@ -254,6 +257,13 @@ void Renderer::render(int index, RenderedFrame& out) const {
   ctx.gain = s.exposure *
              (1.0 + s.exposure_flicker * std::sin(2.0 * M_PI * index / s.flicker_period)) *
              (1.0 + s.exposure_adapt * underOverpass(*objects_, s, ctx.pose.s));
+  if (s.headlights > 0.0) {
+    const Eigen::Matrix3d Rb = baseFromWorld(ctx.pose.yaw, ctx.pose.vehicle_pitch);
+    ctx.ahead = Rb.row(0).transpose();
+    ctx.up = Rb.row(2).transpose();
+    ctx.lamp = ctx.pose.base + kLampHeight * ctx.up + kLampAhead * ctx.ahead;
+    ctx.headlight_light = cv::Vec3d(1.0, 0.98, 0.94) * s.headlights;  // LED low beams
+  }
   ctx.flat_ground = road_.profile().flat() && road_.sideZoneHeight() == 0.0;
   ctx.urban = s.right_boundary != BoundaryType::kPaint || road_.hasTram() ||
               road_.intersections();
@@ -273,6 +283,18 @@ void Renderer::render(int index, RenderedFrame& out) const {
     const double grazing = std::max(0.02, std::fabs(d.y()) / norm);
     return hit.lambda * norm / (ctx.fx * n) / std::sqrt(grazing);
   };
+  // exposure, sensor noise, RGB -> BGR
+  const auto writeColour = [&](const cv::Vec3d& sum, int x, int y, cv::Vec3b* bgr) {
+    const double scale = 255.0 * ctx.gain / (ss * ss);
+    const uint32_t pix = static_cast<uint32_t>(y * s.width + x);
+    for (int c = 0; c < 3; ++c) {
+      double v = sum[c] * scale;
+      if (s.colour_noise > 0)
+        v += s.colour_noise * hashGaussian(noise_seed, static_cast<uint32_t>(index), pix, c);
+      bgr[x][2 - c] = cv::saturate_cast<uint8_t>(v);
+    }
+  };
+  const Bonnet bonnet(s, K);
   cv::parallel_for_(cv::Range(0, s.height), [&](const cv::Range& rows) {
     Hit centre;
     std::vector<Hit> hits(ss * ss);
@@ -281,9 +303,32 @@ void Renderer::render(int index, RenderedFrame& out) const {
       float* depth = out.depth_true.ptr<float>(y);
       uint8_t* label = out.labels.ptr<uint8_t>(y);
       for (int x = 0; x < s.width; ++x) {
-        ctx.trace(x, y, centre);
-        depth[x] = centre.kind == Hit::kNone ? 0.f : static_cast<float>(centre.lambda);
-        label[x] = ctx.label(centre);
+        if (bonnet.hides(x, y)) {
+          depth[x] = static_cast<float>(bonnet.depth(y));
+          label[x] = kLabelCar;
+        } else {
+          ctx.trace(x, y, centre);
+          depth[x] = centre.kind == Hit::kNone ? 0.f : static_cast<float>(centre.lambda);
+          label[x] = ctx.label(centre);
+        }
+        if (bonnet.touches(x, y)) {  // the bonnet in front of (part of) this pixel
+          cv::Vec3d sum(0, 0, 0);
+          Hit h;
+          for (int j = 0; j < ss; ++j) {
+            for (int i = 0; i < ss; ++i) {
+              const double u = x + (i + 0.5) / ss - 0.5, v = y + (j + 0.5) / ss - 0.5;
+              if (bonnet.hides(u, v)) {
+                sum += bonnet.colour(v, ctx);
+              } else {
+                ctx.trace(u, v, h);
+                const Eigen::Vector3d d = ctx.rayDirection(u, v);
+                sum += ctx.shade(h, d, footprint(h, d, ss));
+              }
+            }
+          }
+          writeColour(sum, x, y, bgr);
+          continue;
+        }
         // adaptive supersampling: shade once when every sample sees the same thing
         const uint32_t key = ss > 1 ? ctx.sampleKey(centre) : 0;
         bool uniform = true;
@@ -308,20 +353,14 @@ void Renderer::render(int index, RenderedFrame& out) const {
             }
           }
         }
-        const double scale = 255.0 * ctx.gain / (ss * ss);
-        const uint32_t pix = static_cast<uint32_t>(y * s.width + x);
-        for (int c = 0; c < 3; ++c) {
-          double v = sum[c] * scale;
-          if (s.colour_noise > 0)
-            v += s.colour_noise * hashGaussian(noise_seed, static_cast<uint32_t>(index), pix, c);
-          bgr[x][2 - c] = cv::saturate_cast<uint8_t>(v);  // RGB -> BGR
-        }
+        writeColour(sum, x, y, bgr);
       }
     }
   });
 
   // depth sensor model on the exact depth
   out.depth_true.copyTo(out.depth);
+  const LidarRings lidar(s, K);
   const uint32_t dseed =
       hashKeys(static_cast<uint32_t>(s.seed), 0xde97U, static_cast<uint32_t>(index));
   double hole_threshold = 2.0;
@@ -349,6 +388,17 @@ void Renderer::render(int index, RenderedFrame& out) const {
     for (int x = 0; x < s.width; ++x) {
       if (d[x] <= 0.f) continue;
       const uint32_t pix = static_cast<uint32_t>(y * s.width + x);
+      if (s.lidar_beams > 0) {  // a roof LiDAR: returns on its rings only, none from the bonnet
+        if (bonnet.hides(x, y) || !lidar.hits(ctx.rayDirection(x, y))) {
+          d[x] = 0.f;
+          continue;
+        }
+        if (s.lidar_range_noise > 0.0)
+          d[x] = static_cast<float>(std::max(
+              0.01, d[x] + s.lidar_range_noise * hashGaussian(dseed, pix, 5) *
+                               ctx.rayDirection(x, y).normalized().dot(
+                                   ctx.pose.R_wc.col(2))));  // range noise along the ray, as z
+      }
       if (d[x] > s.depth_range || (h && h[x] >= hole_threshold) ||
           (s.depth_dropout > 0 && hashUniform(dseed, pix, 3) < s.depth_dropout)) {
         d[x] = 0.f;

@@ -93,7 +93,7 @@ void applyCloudyLight(SceneSettings& s) {
 std::vector<SettingField> settingFields(SceneSettings& s) {
   return {
       {"scenario", T::kString, &s.scenario, "preset the settings started from"},
-      {"sensor", T::kString, &s.sensor, "depth sensor model (clean, kinect, sparse)"},
+      {"sensor", T::kString, &s.sensor, "depth sensor model (clean, kinect, sparse, lidar)"},
       {"seed", T::kInt, &s.seed, "random seed"},
       {"frames", T::kInt, &s.frames, "number of frames"},
       {"width", T::kInt, &s.width, "image width (px)"},
@@ -186,6 +186,9 @@ std::vector<SettingField> settingFields(SceneSettings& s) {
       {"exposure_adapt", T::kDouble, &s.exposure_adapt, "auto-exposure gain under overpasses"},
       {"pole_period", T::kDouble, &s.pole_period, "distance between lamp poles (m)"},
       {"canopy_shadows", T::kDouble, &s.canopy_shadows, "tree shadow coverage (0..1)"},
+      {"headlights", T::kDouble, &s.headlights, "low-beam road irradiance (0 = off)"},
+      {"headlight_range", T::kDouble, &s.headlight_range, "evenly lit road ahead (m)"},
+      {"bonnet", T::kDouble, &s.bonnet, "image height hidden by the bonnet (0..1)"},
       {"vehicles", T::kInt, &s.vehicles, "cars in the other lanes"},
       {"lead_vehicle", T::kBool, &s.lead_vehicle, "car ahead in the ego lane"},
       {"trucks", T::kInt, &s.trucks, "trucks in the other lanes"},
@@ -198,6 +201,11 @@ std::vector<SettingField> settingFields(SceneSettings& s) {
       {"depth_dropout", T::kDouble, &s.depth_dropout, "speckle dropout probability"},
       {"depth_holes", T::kDouble, &s.depth_holes, "invalid blob coverage (0..1)"},
       {"max_range", T::kDouble, &s.max_range, "render distance (m)"},
+      {"lidar_beams", T::kInt, &s.lidar_beams, "LiDAR rings (0 = dense depth sensor)"},
+      {"lidar_low_deg", T::kDouble, &s.lidar_low_deg, "lowest LiDAR ring elevation (deg)"},
+      {"lidar_high_deg", T::kDouble, &s.lidar_high_deg, "highest LiDAR ring elevation (deg)"},
+      {"lidar_azimuth_deg", T::kDouble, &s.lidar_azimuth_deg, "LiDAR azimuth step (deg)"},
+      {"lidar_range_noise", T::kDouble, &s.lidar_range_noise, "LiDAR range noise sigma (m)"},
       {"gt_min_distance", T::kDouble, &s.gt_min_distance, "first ground-truth sample ahead (m)"},
       {"gt_max_distance", T::kDouble, &s.gt_max_distance, "last ground-truth sample ahead (m)"},
       {"gt_step", T::kDouble, &s.gt_step, "ground-truth sample spacing (m)"},
@@ -213,12 +221,12 @@ const std::vector<std::string>& scenarioNames() {
       "summer",      "cloudy",       "fog",       "overpass",      "solid",
       "dashed",      "shadows",      "lane_like_objects", "no_markings",   "curve",
       "kerb",        "tram_rails",   "road_edge", "intersection",  "crest_sag",
-      "yellow_centre", "lane_change", "sharp_bend"};
+      "yellow_centre", "lane_change", "sharp_bend", "night_motorway"};
   return names;
 }
 
 const std::vector<std::string>& sensorNames() {
-  static const std::vector<std::string> names = {"clean", "kinect", "sparse"};
+  static const std::vector<std::string> names = {"clean", "kinect", "sparse", "lidar"};
   return names;
 }
 
@@ -299,6 +307,29 @@ bool applyScenario(const std::string& name, SceneSettings& s) {
     // deg off the camera's axis, the inner line leaves the image's side
     p.curvature = -1.0 / 90.0;
     p.speed = 15.0;
+  } else if (name == "night_motorway") {
+    // a motorway at night in the leftmost lane: the solid edge line on the left, a dashed lane
+    // line on the right with long gaps (4.5 m of paint, 10.5 m gap) at 30 m/s and 15 Hz, lit
+    // by the vehicle's own low beams only; the bonnet hides the bottom 15% of the image
+    p.lanes_left = 0;
+    p.lanes_right = 2;
+    p.ego_left = MarkerKind::kSolid;
+    p.ego_right = p.separators = MarkerKind::kDashed;
+    p.dash_length = 4.5;
+    p.dash_gap = 10.5;
+    p.speed = 30.0;
+    p.fps = 15.0;
+    p.shoulder_width = 2.5;
+    p.ambient = 0.02;
+    p.direct = 0.0;
+    p.shadows = false;
+    p.cloud_cover = 0.0;
+    p.sky_horizon = cv::Vec3d(0.025, 0.028, 0.045);
+    p.sky_zenith = cv::Vec3d(0.004, 0.005, 0.012);
+    p.headlights = 0.5;
+    p.colour_noise = 5.0;  // the gain of a camera at night
+    p.bonnet = 0.15;
+    p.pitch_deg = 2.0;
   }
   s = p;
   applySensor(s.sensor, s);
@@ -317,6 +348,20 @@ bool applySensor(const std::string& name, SceneSettings& s) {
     s.depth_range = 20.0;
     s.depth_dropout = 0.01;
     s.depth_holes = 0.0;
+  } else if (name == "lidar") {
+    // a 32-ring LiDAR on the roof, projected into the image: a ring every 1.3 deg (6 rows of a
+    // 640-wide image, 15-20 of an HD one), 2 cm range noise, 100 m range, 5% of returns lost
+    s.depth_noise_k = 0.0;
+    s.depth_range = 100.0;
+    s.depth_dropout = 0.05;
+    s.depth_holes = 0.0;
+    s.lidar_beams = 32;
+    s.lidar_low_deg = -25.0;
+    s.lidar_high_deg = 15.0;
+    s.lidar_azimuth_deg = 0.2;
+    s.lidar_range_noise = 0.02;
+    s.sensor = name;
+    return true;
   } else if (name == "sparse") {
     // RealSense R200-like active stereo: blob holes, speckle dropout, noisy, short range.
     s.depth_noise_k = 0.003;
@@ -326,6 +371,7 @@ bool applySensor(const std::string& name, SceneSettings& s) {
   } else {
     return false;
   }
+  s.lidar_beams = 0;
   s.sensor = name;
   return true;
 }

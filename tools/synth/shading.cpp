@@ -518,6 +518,27 @@ cv::Vec3d FrameContext::boxAlbedo(const Box& box, const BoxHit& h) const {
   return box.albedo;
 }
 
+double FrameContext::headlightFactor(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
+  const SceneSettings& s = *settings;
+  const Eigen::Vector3d out = p - lamp;  // from the lamps to the point
+  const double d = out.norm();
+  if (d < 0.1) return 0.0;
+  const Eigen::Vector3d l = out / d;
+  const double ndl = std::max(0.0, -n.dot(l));
+  // low beam: cut off at the lamps' horizon (within 1 deg), about 34 deg wide (1/e)
+  const double below = -l.dot(up);
+  const double cut = smoothstep(0.0, 0.0175, below);
+  const Eigen::Vector3d flat = (l - l.dot(up) * up).normalized();
+  const double az = std::acos(std::max(-1.0, std::min(1.0, flat.dot(ahead))));
+  const double spread = std::exp(-(az / 0.6) * (az / 0.6));
+  // aimed at the road: the road (n = up, ndl = lamp height / d) is lit evenly to the range;
+  // a surface facing the lamps gets at most 3x the road's irradiance
+  const double height = std::max(0.1, (lamp - p).dot(up));
+  const double aim = std::min(3.0, ndl * d / height);
+  const double reach = d > s.headlight_range ? (s.headlight_range / d) * (s.headlight_range / d) : 1.0;
+  return cut * spread * aim * reach;
+}
+
 cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double footprint) const {
   const SceneSettings& s = *settings;
   cv::Vec3d c;
@@ -558,6 +579,7 @@ cv::Vec3d FrameContext::shade(const Hit& hit, const Eigen::Vector3d& dir, double
     const double ndl = std::max(0.0, n.dot(sun));
     if (ndl > 0 && vis > 0) vis *= sunVisibility(hit.point, self);
     c = mul(albedo, ambient_light * (0.75 + 0.25 * n.y()) + sun_light * (ndl * vis));
+    if (s.headlights > 0.0) c += mul(albedo, headlight_light * headlightFactor(hit.point, n));
     if (specular > 0.0) {  // a rough steel mirror: the reflected sky's brightness
       const cv::Vec3d sky_seen = mix(sky(dir - 2.0 * dir.dot(n) * n), s.sky_horizon, 0.6);
       const double lum = 0.3 * sky_seen[0] + 0.59 * sky_seen[1] + 0.11 * sky_seen[2];

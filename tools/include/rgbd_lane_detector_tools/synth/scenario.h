@@ -61,7 +61,7 @@ enum LabelClass : uint8_t {
 struct SceneSettings {
   // --- identity and output ---
   std::string scenario = "summer";  ///< preset the settings started from
-  std::string sensor = "clean";     ///< depth sensor model: clean, kinect, sparse
+  std::string sensor = "clean";     ///< depth sensor model: clean, kinect, sparse, lidar
   int seed = 1;                     ///< all randomness derives from it
   int frames = 300;
   int width = 640;
@@ -166,6 +166,16 @@ struct SceneSettings {
   double exposure_adapt = 0.0;  ///< extra gain when the camera is under an overpass (auto-exposure)
   double pole_period = 0.0;     ///< m between lamp poles on both sides (0 = none)
   double canopy_shadows = 0.0;  ///< 0..1 coverage of tree shadows near the road edges
+  /// Low-beam headlights (night): road irradiance in the beam, in the units of `direct` (0 =
+  /// none). The lamps sit 0.7 m above the road, 1.8 m ahead of the camera; the beam is cut off
+  /// at the lamps' horizon, about 34 deg wide (1/e), and lights the road evenly out to
+  /// headlight_range, then falls off with the square of the distance.
+  double headlights = 0.0;
+  double headlight_range = 45.0;  ///< m
+  /// Fraction of the image height the vehicle's bonnet (hood) hides at the image's centre
+  /// column (its edge curves down toward the sides); 0 = none. Dark paint; its depth is the
+  /// hood's, except for a LiDAR (roof-mounted: no returns from the bonnet).
+  double bonnet = 0.0;
 
   // --- objects ---
   int vehicles = 3;            ///< cars in the other lanes
@@ -182,6 +192,14 @@ struct SceneSettings {
   double depth_dropout = 0.0;  ///< probability of an invalid pixel (speckle)
   double depth_holes = 0.0;    ///< 0..1 coverage of invalid blobs (moving per frame)
   double max_range = 200.0;    ///< scene beyond this distance is not rendered (horizon haze)
+  /// A spinning LiDAR projected into the image (0 = a dense depth sensor): depth only on the
+  /// pixels its beams hit, lidar_beams rings evenly spaced in elevation from lidar_low_deg to
+  /// lidar_high_deg (world elevation at the camera), one return every lidar_azimuth_deg.
+  int lidar_beams = 0;
+  double lidar_low_deg = -25.0;
+  double lidar_high_deg = 15.0;
+  double lidar_azimuth_deg = 0.2;
+  double lidar_range_noise = 0.02;  ///< m, Gaussian sigma of a return's range
 
   // --- ground truth sampling ---
   double gt_min_distance = 3.0;
