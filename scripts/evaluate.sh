@@ -160,6 +160,21 @@ if [ -d "$REALDATA/streets" ] || [ -d "$REALDATA/sequences/radiate_fog" ]; then
     echo "evaluate.sh: evaluate_real found wrong sides on the real corpus (see $EVAL_DIR/real_corpus.md)" >&2
 fi
 
+# The street frames again in every stress variant (real_variants.h): the other side of the road
+# (mirrored: left-hand traffic, kerbs on the left), no depth near the car, another camera (half
+# the resolution), darker and brighter exposure. A proxy for roads and cameras nobody labelled:
+# what is reported must stay on its line.
+if [ -d "$REALDATA/streets" ]; then
+  variant_args=()
+  for v in mirrored no_near_depth half_resolution underexposed overexposed; do
+    variant_args+=(--variant "$v")
+  done
+  "$REAL" --labels "$ROOT/test/data/realdata_streets.yaml" --labels "$ROOT/test/data/realdata_labels.yaml" \
+    --realdata "$REALDATA" --mode improved --depth dataset "${variant_args[@]}" \
+    --markdown "$EVAL_DIR/real_corpus_variants.md" --csv "$EVAL_DIR/real_corpus_variants.csv" \
+    > /dev/null || echo "evaluate.sh: evaluate_real found wrong sides in the stress variants (see $EVAL_DIR/real_corpus_variants.md)" >&2
+fi
+
 # SOURCE_COMMIT: commit the tools were built from, when that is not this checkout's HEAD
 commit="${SOURCE_COMMIT:-$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
 dirty=""
@@ -254,6 +269,19 @@ fi
     echo "frame-to-frame change of their c0. Overlays: \`$EVAL_DIR_REL/real_corpus_images\`."
     echo
     cat "$EVAL_DIR/real_corpus.md"
+    echo
+  fi
+  if [ -f "$EVAL_DIR/real_corpus_variants.md" ]; then
+    echo "### The real corpus in stress variants"
+    echo
+    echo "The same street and KITTI frames (LiDAR depth, improved mode, each frame on its own),"
+    echo "changed as other roads and cameras would change them (\`tools/include/rgbd_lane_detector_tools/dataset/real_variants.h\`):"
+    echo "mirrored left-right (left-hand traffic: kerbs and centre lines on the other side), no depth"
+    echo "in the bottom 30% of the rows, half the resolution, colour at 60% and at 140%. The labels"
+    echo "change with the frame. A proxy for what nobody has labelled: the \`wrong\` column is what a"
+    echo "user would see. Per-frame verdicts: \`$EVAL_DIR_REL/real_corpus_variants.md\`."
+    echo
+    sed '/^$/q' "$EVAL_DIR/real_corpus_variants.md" | grep -v '| sensor |'
     echo
   fi
   echo "Pictures (paper mode left, improved right, middle frame of each sequence):"
