@@ -74,8 +74,9 @@ void scoreDataset(const std::string& dataset, const std::string& depth) {
                                   << " of " << side->points << " points on the line, kind "
                                   << boundaryKindName(side->reported_kind);
         if (labelled.kind == BoundaryKind::kPaint || variant == tools::RealVariant::kAsIs ||
-            variant == tools::RealVariant::kMirrored)
+            variant == tools::RealVariant::kMirrored) {
           EXPECT_FALSE(side->missed) << (side == &s.left ? "left" : "right");
+        }
       }
       // the road plane, markers or not, where the road is visible
       if (label->lane) {

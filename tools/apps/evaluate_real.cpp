@@ -138,13 +138,17 @@ int main(int argc, char** argv) {
   cl.add("variant",
          "frame variant of frame sets: as_is, mirrored (left-right), no_near_depth (no depth in "
          "the bottom 30% of the rows), half_resolution (half the width and height), underexposed "
-         "(colour at 60%), overexposed (colour at 140%, saturating) (repeatable; default all)",
+         "(colour at 60%), overexposed (colour at 140%, saturating), night (45% near to 8% at the "
+         "horizon, noise) (repeatable; default all)",
          &variants_list);
   cl.add("markdown", "write the tables here", &markdown);
   cl.add("csv", "write one line per frame, depth, variant and mode here", &csv);
   cl.add("images",
          "write the overlays (real_<dataset>_<frame>_<depth>[_<variant>]_<mode>.jpg) here",
          &images);
+  bool draw_candidates = false;
+  cl.addFlag("candidates", "draw every traced candidate line and its verdict on the overlays",
+             &draw_candidates);
   const auto parsed = cl.parse(argc, argv);
   if (parsed == tools::CommandLine::Parse::kHelp) return 0;
   if (parsed == tools::CommandLine::Parse::kError) return 2;
@@ -299,6 +303,11 @@ int main(int argc, char** argv) {
             rows.push_back(row);
             if (!images.empty()) {
               drawOverlay(f.colour, f.format, f.intrinsics, result, params, overlay);
+              for (int side = 0; side < 2 && draw_candidates; ++side) {
+                int count = 0;
+                const BoundaryCandidate* c = detector.candidates(side, count);
+                drawCandidates(c, count, overlay);
+              }
               // the labels, thin white
               for (const tools::LabelledSide* s : {&label->left, &label->right}) {
                 if (!label->lane || !s->present) continue;

@@ -1,6 +1,8 @@
 #include "rgbd_lane_detector_tools/dataset/real_variants.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -11,6 +13,31 @@ namespace tools {
 namespace {
 
 constexpr double kNearRowsShare = 0.3;  // bottom share of the rows without depth
+// night: the road lit by the vehicle's own lamps (bright near, dark toward the horizon) and the
+// camera's gain raising the sensor noise with it
+constexpr double kNightNear = 0.45;    // colour scale at the bottom row
+constexpr double kNightFar = 0.08;     // ... at the principal point's row and above
+constexpr double kNightNoise = 4.0;    // Gaussian sigma after the scale (0-255)
+constexpr uint64_t kNightSeed = 0x6e16e7ULL;
+
+// The frame at night (kNight): each row scaled from kNightNear at the bottom to kNightFar at
+// the horizon (the principal point's row), Gaussian noise added, saturating.
+cv::Mat atNight(const cv::Mat& colour, double cy) {
+  cv::Mat f;
+  colour.convertTo(f, CV_32F);
+  const double horizon = std::max(0.0, std::min(cy, colour.rows - 1.0));
+  for (int v = 0; v < f.rows; ++v) {
+    const double t = v <= horizon ? 0.0 : (v - horizon) / std::max(1.0, colour.rows - 1 - horizon);
+    f.row(v) *= kNightFar + (kNightNear - kNightFar) * t * t;
+  }
+  cv::Mat noise(f.size(), f.type());
+  cv::RNG rng(kNightSeed);
+  rng.fill(noise, cv::RNG::NORMAL, 0.0, kNightNoise);
+  f += noise;
+  cv::Mat out;
+  f.convertTo(out, colour.type());
+  return out;
+}
 
 // A flipped copy (the source may share its buffer with another member of the frame).
 cv::Mat flipped(const cv::Mat& m) {
@@ -24,7 +51,8 @@ cv::Mat flipped(const cv::Mat& m) {
 const std::vector<RealVariant>& allRealVariants() {
   static const std::vector<RealVariant> all = {
       RealVariant::kAsIs,           RealVariant::kMirrored,     RealVariant::kNoNearDepth,
-      RealVariant::kHalfResolution, RealVariant::kUnderexposed, RealVariant::kOverexposed};
+      RealVariant::kHalfResolution, RealVariant::kUnderexposed, RealVariant::kOverexposed,
+      RealVariant::kNight};
   return all;
 }
 
@@ -42,6 +70,8 @@ const char* realVariantName(RealVariant v) {
       return "underexposed";
     case RealVariant::kOverexposed:
       return "overexposed";
+    case RealVariant::kNight:
+      return "night";
   }
   return "unknown";
 }
@@ -109,6 +139,9 @@ void applyRealVariant(RealVariant v, DatasetFrame& frame, LabelledFrame& label) 
       frame.colour = colour;
       return;
     }
+    case RealVariant::kNight:
+      frame.colour = atNight(frame.colour, frame.intrinsics.cy);
+      return;
   }
 }
 

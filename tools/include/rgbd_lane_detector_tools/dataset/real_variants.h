@@ -23,12 +23,13 @@ enum class RealVariant {
   kHalfResolution,  ///< half the width and height (another camera: a 621x187 image)
   kUnderexposed,    ///< colour at 60% (dusk, a darker camera)
   kOverexposed,     ///< colour at 140%, saturating (low sun on light asphalt)
+  kNight,           ///< lit by the vehicle's lamps: 45% at the bottom row to 8% at the horizon, noise
 };
 
 /// Every variant, kAsIs first.
 const std::vector<RealVariant>& allRealVariants();
-/// "as_is", "mirrored", "no_near_depth", "half_resolution", "underexposed", "overexposed"
-/// (static text).
+/// "as_is", "mirrored", "no_near_depth", "half_resolution", "underexposed", "overexposed",
+/// "night" (static text).
 const char* realVariantName(RealVariant v);
 /// The variant named @p name; false for an unknown name.
 bool realVariantFromName(const std::string& name, RealVariant& v);
@@ -43,7 +44,9 @@ bool realVariantFromName(const std::string& name, RealVariant& v);
  * depth); the LiDAR reference used to check the plane and place the labels is kept.
  * kHalfResolution resizes the colour image (area average) and the depth images (nearest), and
  * scales the intrinsics and the label with them. kUnderexposed and kOverexposed scale the
- * colour values (saturating at 255).
+ * colour values (saturating at 255). kNight scales each row from 45% at the bottom to 8% at the
+ * principal point's row and above (quadratically: the vehicle's lamps light the near road) and
+ * adds Gaussian noise of sigma 4 (a camera's gain at night), with a fixed seed.
  * @param[in] v variant.
  * @param[in,out] frame the frame.
  * @param[in,out] label its label.
