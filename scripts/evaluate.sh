@@ -162,11 +162,11 @@ fi
 
 # The street frames again in every stress variant (real_variants.h): the other side of the road
 # (mirrored: left-hand traffic, kerbs on the left), no depth near the car, another camera (half
-# the resolution), darker and brighter exposure. A proxy for roads and cameras nobody labelled:
+# the resolution), darker and brighter exposure, night. A proxy for roads and cameras nobody labelled:
 # what is reported must stay on its line.
 if [ -d "$REALDATA/streets" ]; then
   variant_args=()
-  for v in mirrored no_near_depth half_resolution underexposed overexposed; do
+  for v in mirrored no_near_depth half_resolution underexposed overexposed night; do
     variant_args+=(--variant "$v")
   done
   "$REAL" --labels "$ROOT/test/data/realdata_streets.yaml" --labels "$ROOT/test/data/realdata_labels.yaml" \
@@ -277,7 +277,8 @@ fi
     echo "The same street and KITTI frames (LiDAR depth, improved mode, each frame on its own),"
     echo "changed as other roads and cameras would change them (\`tools/include/rgbd_lane_detector_tools/dataset/real_variants.h\`):"
     echo "mirrored left-right (left-hand traffic: kerbs and centre lines on the other side), no depth"
-    echo "in the bottom 30% of the rows, half the resolution, colour at 60% and at 140%. The labels"
+    echo "in the bottom 30% of the rows, half the resolution, colour at 60% and at 140%, and night (each"
+    echo "row from 45% at the bottom to 8% at the horizon, as low beams light the road, and noise). The labels"
     echo "change with the frame. A proxy for what nobody has labelled: the \`wrong\` column is what a"
     echo "user would see. Per-frame verdicts: \`$EVAL_DIR_REL/real_corpus_variants.md\`."
     echo
