@@ -33,6 +33,7 @@ struct RowMeasure {
   float chroma[2][2] = {{0.f, 0.f}, {0.f, 0.f}};  ///< rg chromaticity of both sides
   /// the brighter side's grey, the contrast a band needs, the brightest grey near the line
   float top = 0.f, contrast = 0.f, peak = 0.f;
+  float noise = 0.f;  ///< grey noise of the row: the robust sigma of the smoother side
   const Band* paint = nullptr;   ///< nearest band of paint width (where resolved)
   const Band* narrow = nullptr;  ///< nearest narrower band
   const Band* wide = nullptr;    ///< nearest wider band
@@ -94,6 +95,7 @@ class BandProfile {
   std::vector<float> profile_;
   std::vector<Band> bands_;
   std::vector<float> side_;           ///< grey values of a row's sides (medians)
+  std::vector<float> dev_;            ///< their absolute deviations (the row's noise)
   std::vector<unsigned char> other_;  ///< edgeInRow(): pixels of a row that are not road
 };
 

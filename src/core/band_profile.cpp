@@ -15,11 +15,15 @@ constexpr double kBandReach = 0.3;         // m: bands this close to the trace b
 constexpr double kEdgeBeyond = 0.3;        // m: an edge is sought up to this far beyond the line
 constexpr double kEdgeRun = 0.12;          // m of mostly not-road in a row that make the edge
 constexpr double kEdgeFill = 0.75;         // share of kEdgeRun that is not road
+constexpr float kMadToSigma = 1.4826f;     // median absolute deviation to a Gaussian's sigma
+constexpr float kNoiseSigmas = 3.0f;       // a band stands this many noise sigmas above the road
+constexpr size_t kMinNoiseSamples = 5;     // side pixels a row's noise is estimated from
 
 }  // namespace
 
 BandProfile::BandProfile() {
   side_.reserve(2 * kMaxProfileHalf + 1);
+  dev_.reserve(2 * kMaxProfileHalf + 1);
 }
 
 void BandProfile::addBand(int a, int b, float base, bool open, int W) {
@@ -93,24 +97,41 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
   m.outer_dir = left ? -1 : 1;  // image direction away from the vehicle
   const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
   const int s1 = std::max(s0 + 1, static_cast<int>(std::floor(kSideFar * m.ppm)));
+  m.noise = -1.0f;
   for (int s = 0; s < 2; ++s) {
     const int dir = s == 1 ? m.outer_dir : -m.outer_dir;
     side_.clear();
-    double sr = 0, sg = 0;
+    double sr = 0, sg = 0, sb = 0;
     for (int k = s0; k <= s1 && k <= m.W; ++k) {
-      float r, g;
-      row.chroma(m.u0 + dir * k, r, g);
+      float R, G, B;
+      row.rgb(m.u0 + dir * k, R, G, B);
       side_.push_back(profile_[m.W + dir * k]);
-      sr += r;
-      sg += g;
+      sr += R;
+      sg += G;
+      sb += B;
     }
     if (side_.empty()) return false;
-    m.chroma[s][0] = static_cast<float>(sr / side_.size());
-    m.chroma[s][1] = static_cast<float>(sg / side_.size());
+    // the chromaticity of the side's mean colour (dark pixels' colour is mostly noise: each
+    // pixel counts by its brightness)
+    const double sum = sr + sg + sb;
+    m.chroma[s][0] = static_cast<float>(sum > 0.0 ? sr / sum : 1.0 / 3.0);
+    m.chroma[s][1] = static_cast<float>(sum > 0.0 ? sg / sum : 1.0 / 3.0);
     m.bg[s] = greyMedian(side_);
+    // the row's noise: the robust spread of the smoother side's grey about its median
+    if (side_.size() >= kMinNoiseSamples) {
+      dev_.clear();
+      for (const float x : side_) dev_.push_back(std::fabs(x - m.bg[s]));
+      const float sd = kMadToSigma * greyMedian(dev_);
+      m.noise = m.noise < 0.0f ? sd : std::min(m.noise, sd);
+    }
   }
+  m.noise = std::max(m.noise, 0.0f);
   m.top = std::max(m.bg[0], m.bg[1]);
-  m.contrast = std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(m.top, 1.0f));
+  // a band stands out by the paint contrast, and from the row's noise (a dark, noisy road at
+  // night: a narrow run of noise is no rail head, a noisy step no kerb)
+  m.contrast = std::max({kMinContrast,
+                         static_cast<float>(p.paint_contrast) * std::max(m.top, 1.0f),
+                         kNoiseSigmas * m.noise});
   // the brightest pixel near the trace
   const int search = std::max(2, static_cast<int>(std::lround(kPeakSearch * m.ppm)));
   m.peak = profile_[m.W];

@@ -2,6 +2,7 @@
 // kHeight fy / 80 m ahead, 80 / kHeight = 53.3 px per metre across it): bands of paint width,
 // narrower and wider; the backgrounds of both sides; the centre of a band; where the road ends.
 #include <cmath>
+#include <cstdint>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -67,6 +68,50 @@ TEST(BandProfile, NarrowAndWideBandsAreNotPaint) {
   EXPECT_EQ(zebra.m.paint, nullptr);
   ASSERT_NE(zebra.m.wide, nullptr);
   EXPECT_NEAR(zebra.m.wide->hi - zebra.m.wide->lo, 0.6 * kPpm, 1.5);  // 31 px
+}
+
+// A dark road at night: grey 20 with sensor noise of sigma 8 (uniform, per pixel column), with
+// or without a band of paint 60 grey levels above it.
+CrossSection noisyNight(bool paint) {
+  CrossSection cs;
+  cs.colour = [paint](double x, double) {
+    const int column = static_cast<int>(std::lround(columnOf(x)));
+    uint32_t h = static_cast<uint32_t>(column) * 2654435761u;  // a fixed pseudo-random value
+    h ^= h >> 15;
+    h *= 2246822519u;
+    h ^= h >> 13;
+    const double noise = (static_cast<double>(h % 1001) / 1000.0 - 0.5) * 2.0 * 13.9;  // sigma 8
+    const double base = paint && std::fabs(x + 1.8) < 0.075 ? 80.0 : 20.0;
+    return grey(static_cast<int>(std::lround(std::max(0.0, base + noise))));
+  };
+  return cs;
+}
+
+TEST(BandProfile, NoiseOnADarkRoadIsNoBand) {
+  // (the relative paint contrast of a road of grey 20 is 5 grey levels, under its noise: runs of
+  // noise would be narrow bands, rail heads; the row's own noise sets the contrast instead)
+  Profile f;
+  f.render(noisyNight(false));
+  int measured = 0, bands = 0;
+  for (double x = -2.4; x <= -1.2; x += 0.05) {
+    if (!f.measure(x)) continue;
+    ++measured;
+    EXPECT_GT(f.m.noise, 4.0f);
+    EXPECT_LT(f.m.noise, 14.0f);
+    EXPECT_GE(f.m.contrast, 3.0f * f.m.noise);
+    bands += f.m.narrow != nullptr || f.m.paint != nullptr || f.m.wide != nullptr;
+  }
+  EXPECT_GT(measured, 15);
+  EXPECT_EQ(bands, 0);
+}
+
+TEST(BandProfile, PaintStandsOutOfTheNoise) {
+  Profile f;
+  f.render(noisyNight(true));  // 0.15 m of paint, 60 grey levels (7.5 sigma) above the road
+  ASSERT_TRUE(f.measure(-1.8));
+  ASSERT_NE(f.m.paint, nullptr);
+  EXPECT_NEAR(0.5 * (f.m.paint->lo + f.m.paint->hi) / f.m.ppm, 0.0, 0.03);
+  EXPECT_NEAR((f.m.paint->hi - f.m.paint->lo) / f.m.ppm, 0.15, 0.05);
 }
 
 TEST(BandProfile, SidesAreTheRoadBesideTheLineInnerThenOuter) {
