@@ -322,6 +322,7 @@ void LaneDetector::fitRoadSurface(const Frame& frame) {
     // the vehicle sits on the road: its up axis is the road's, within the mount's tolerance
     s.up = frame.vehicle_from_camera.linear().transpose() * Eigen::Vector3d::UnitZ();
     s.max_tilt_deg = std::min(s.max_tilt_deg, params_.mount_tilt_deg);
+    s.mount_height = frame.vehicle_from_camera.translation().z();  // its origin on the road
   }
   s.height_min = params_.plane_distance_min;
   s.height_max = params_.plane_distance_max;
@@ -335,7 +336,15 @@ void LaneDetector::fitRoadSurface(const Frame& frame) {
   const PlaneEstimate& previous = fitter_.previousPlane();
   if (!road_surface_.fit(points_, roi_rows_, s, previous, road_)) {
     plane_holds_ = 0;
-    return;
+    // no road in the depth within the mount's tolerance (too sparse, or short-baseline stereo
+    // whose depth is off): the vehicle stands on the road, the mount's plane is it
+    if (!(s.mount_height > s.height_min && s.mount_height < s.height_max)) return;
+    road_.valid = true;
+    road_.normal = s.up;
+    road_.distance = s.mount_height;
+    road_.rms = 0.0;
+    road_.range = s.fit_range;
+    road_.fit_method = static_cast<int>(PlaneFit::kRoadSurface);
   }
   // a road does not tilt or drop within a frame: a plane that jumps from the last one is depth
   // that fooled the fit (sparse returns, the paint alone, a wet road); the last plane is kept
