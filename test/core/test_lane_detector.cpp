@@ -362,6 +362,25 @@ TEST(LaneDetector, WithoutRoadDepthTheMountIsTheRoad) {
   LaneDetector without(Params::improved());
   ASSERT_EQ(without.detect(f, r), Status::kOk);
   EXPECT_FALSE(r.plane.valid);
+  // a vehicle frame whose origin is 0.5 m above the road (not on it): once the depth has shown
+  // the road 0.5 m below the mount's plane, that plane no longer stands in for frames without
+  // road depth (the last plane holds for 5 of them, as against any jump)
+  cv::Mat bgr2, full_depth;
+  Frame g = makeFrame(scene, bgr2, full_depth);
+  g.has_vehicle_frame = true;
+  g.vehicle_from_camera = f.vehicle_from_camera;
+  g.vehicle_from_camera.translation().z() -= 0.5;
+  f.has_vehicle_frame = true;
+  f.vehicle_from_camera = g.vehicle_from_camera;
+  LaneDetector elevated(Params::improved());
+  ASSERT_EQ(elevated.detect(g, r), Status::kOk);
+  ASSERT_TRUE(r.plane.valid);
+  EXPECT_NEAR(r.plane.distance, scene.planeDistance(), 0.01);  // from the depth
+  for (int i = 0; i < 8; ++i) {
+    ASSERT_EQ(elevated.detect(f, r), Status::kOk);
+    const double mount_height = scene.planeDistance() - 0.5;
+    EXPECT_FALSE(r.plane.valid && std::fabs(r.plane.distance - mount_height) < 0.01) << i;
+  }
 }
 
 // One side without paint (a kerb-less edge, worn paint): the other side is reported on its own,
