@@ -205,6 +205,9 @@ class LaneDetector {
   RoadSurface road_surface_;
   PlaneEstimate road_;
   int plane_holds_ = 0;  ///< frames in a row whose fit jumped from the last plane (kept instead)
+  /// Fitted planes at the mount's height minus those far from it (clamped); below 0 the mount's
+  /// plane does not stand in for a frame without a fit.
+  int mount_evidence_ = 0;
   CandidateFrame candidate_frame_;
   BoundaryCandidateFinder finder_;
   BoundaryClassifier paint_classifier_;  ///< measurePaint()

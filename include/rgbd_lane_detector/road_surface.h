@@ -28,6 +28,9 @@ namespace rgbd_lane_detector {
 struct RoadSurfaceSettings {
   Eigen::Vector3d up = Eigen::Vector3d(0.0, -1.0, 0.0);  ///< road up axis, optical frame
   double max_tilt_deg = 30.0;   ///< largest angle between the plane normal and @c up
+  /// Height of the camera above the road from its mount (the vehicle frame's tf: its origin on
+  /// the road), m; with it the fit starts from the mount's plane (normal @c up); 0 = unknown.
+  double mount_height = 0.0;
   double height_min = 0.3;      ///< camera height above the road, lower bound (m)
   double height_max = 5.0;      ///< upper bound (m)
   double fit_range = 20.0;      ///< points up to this distance ahead fit the plane (m)

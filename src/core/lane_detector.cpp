@@ -25,6 +25,11 @@ namespace {
 
 constexpr int kPlaneHoldFrames = 5;       // frames the last plane is kept over jumping fits
 constexpr double kPlaneDropPerDeg = 0.05; // m of height change per degree of plane_max_change_deg
+// The mount's height against the fitted planes: a fit this close agrees with it, one this far
+// says the vehicle frame's origin is not on the road (the mount's plane then never stands in)
+constexpr double kMountAgrees = 0.1;      // m
+constexpr double kMountDisagrees = 0.3;   // m
+constexpr int kMountEvidence = 10;        // frames of evidence kept (either way)
 
 }  // namespace
 
@@ -57,6 +62,7 @@ void LaneDetector::reset() {
   lane_model_.reset();
   road_.valid = false;
   plane_holds_ = 0;
+  mount_evidence_ = 0;
   templates_dirty_ = true;
 }
 
@@ -322,6 +328,7 @@ void LaneDetector::fitRoadSurface(const Frame& frame) {
     // the vehicle sits on the road: its up axis is the road's, within the mount's tolerance
     s.up = frame.vehicle_from_camera.linear().transpose() * Eigen::Vector3d::UnitZ();
     s.max_tilt_deg = std::min(s.max_tilt_deg, params_.mount_tilt_deg);
+    s.mount_height = frame.vehicle_from_camera.translation().z();  // its origin on the road
   }
   s.height_min = params_.plane_distance_min;
   s.height_max = params_.plane_distance_max;
@@ -334,8 +341,24 @@ void LaneDetector::fitRoadSurface(const Frame& frame) {
       RoadSurface::corridorColumns(proc_K_.fx * sx, (proc_K_.cx + 0.5) * sx - 0.5, s.fit_range);
   const PlaneEstimate& previous = fitter_.previousPlane();
   if (!road_surface_.fit(points_, roi_rows_, s, previous, road_)) {
-    plane_holds_ = 0;
-    return;
+    // no road in the depth within the mount's tolerance (too sparse, or short-baseline stereo
+    // whose depth is off): the vehicle stands on the road, the mount's plane is it (unless the
+    // depth's planes have shown that the vehicle frame's origin is not on the road)
+    if (!(s.mount_height > s.height_min && s.mount_height < s.height_max) ||
+        mount_evidence_ < 0) {
+      plane_holds_ = 0;
+      return;
+    }
+    road_.valid = true;
+    road_.normal = s.up;
+    road_.distance = s.mount_height;
+    road_.rms = 0.0;
+    road_.range = s.fit_range;
+    road_.fit_method = static_cast<int>(PlaneFit::kRoadSurface);
+  } else if (s.mount_height > 0.0) {
+    const double off = std::fabs(road_.distance - s.mount_height);
+    if (off <= kMountAgrees) mount_evidence_ = std::min(kMountEvidence, mount_evidence_ + 1);
+    if (off > kMountDisagrees) mount_evidence_ = std::max(-kMountEvidence, mount_evidence_ - 1);
   }
   // a road does not tilt or drop within a frame: a plane that jumps from the last one is depth
   // that fooled the fit (sparse returns, the paint alone, a wet road); the last plane is kept

@@ -19,6 +19,8 @@ constexpr double kEarlyExit = 0.8;          // RANSAC stops at this share of the
 constexpr int kRefineIterations = 4;
 constexpr double kPreviousBand = 4.0;       // first refit band around the previous plane (x band)
 constexpr double kRansacBand = 2.0;         // first refit band around a RANSAC plane (x band)
+constexpr double kMountBand = 1.0;          // first refit band around the mount's plane (x band)
+constexpr double kAboveBand = 0.5;          // with a mount: share of the refit band above the plane
 constexpr double kMinInlierShare = 0.15;    // of the near samples' weight
 constexpr double kNoiseMinDepth = 5.0;      // m: the noise growth is measured beyond this
 constexpr size_t kMaxSupport = 200;         // support points kept for the message
@@ -184,7 +186,11 @@ void RoadSurface::estimateNoise(const RoadSurfaceSettings& s, const Eigen::Vecto
   for (const Sample& smp : near_) {
     const double z = smp.p.z();
     if (z < kNoiseMinDepth) continue;
-    const double r = std::fabs(n.dot(smp.p.cast<double>()) + d);
+    const double signed_r = n.dot(smp.p.cast<double>()) + d;
+    // with the mount's plane, below it only: nothing but noise lies below the road, kerbs,
+    // pavements and vehicles above it
+    if (s.mount_height > 0.0 && signed_r > 0.0) continue;
+    const double r = std::fabs(signed_r);
     if (r <= s.inlier_distance + s.noise_growth * z * z) ratios_.push_back(static_cast<float>(r / (z * z)));
   }
   if (ratios_.size() < static_cast<size_t>(kMinSamples)) return;  // keep the settings' growth
@@ -240,7 +246,13 @@ bool RoadSurface::refine(const RoadSurfaceSettings& s, double first_band, Eigen:
     double wsum = 0.0;
     for (const Sample& smp : near_) {
       const Eigen::Vector3d p = smp.p.cast<double>();
-      const double w = smp.weight * tukeyWeight(n.dot(p) + d, factor * bandAt(s, p.z()));
+      // with the mount's plane to start from, the road is what everything else stands on:
+      // kerbs, pavements, vehicles and verges lie above it, nothing but noise below; above it
+      // the band is narrower
+      const double r = n.dot(p) + d;
+      const double above = s.mount_height > 0.0 ? kAboveBand : 1.0;
+      const double w =
+          smp.weight * tukeyWeight(r, (r > 0.0 ? above : 1.0) * factor * bandAt(s, p.z()));
       if (w <= 0.0) continue;
       const Eigen::Vector3d q = p - origin;
       sum += w * q;
@@ -328,14 +340,23 @@ bool RoadSurface::fit(const cv::Mat& points, const cv::Range& rows,
   double d = 0.0;
   bool ok = false;
   growth_ = s.noise_growth;  // the sensor's worst case until the data tell
-  if (previous.valid && plausible(previous.normal, previous.distance, s)) {
-    n = previous.normal;
-    d = previous.distance;
-    ok = refine(s, kPreviousBand, n, d);
-  }
   double total = 0.0;
   for (const Sample& smp : near_) total += smp.weight;
-  if (ok && score(n, d, s) < kMinInlierShare * total) ok = false;
+  // the vehicle knows where the road is: the plane of its mount, refitted within the band alone
+  // (a road seen mostly as paint, beside kerbs, pavements and passing cars, has more depth off
+  // it than on it: a wide band lets those pull the plane, and from frame to frame it drifts)
+  if (s.mount_height > 0.0 && plausible(s.up, s.mount_height, s)) {
+    n = s.up;
+    d = s.mount_height;
+    estimateNoise(s, n, d);  // the band from the depth below the mount's plane
+    ok = refine(s, kMountBand, n, d) && score(n, d, s) >= kMinInlierShare * total;
+    if (!ok) growth_ = s.noise_growth;
+  }
+  if (!ok && previous.valid && plausible(previous.normal, previous.distance, s)) {
+    n = previous.normal;
+    d = previous.distance;
+    ok = refine(s, kPreviousBand, n, d) && score(n, d, s) >= kMinInlierShare * total;
+  }
   if (!ok) ok = ransac(s, n, d) && refine(s, kRansacBand, n, d);
   if (!ok || score(n, d, s) < kMinInlierShare * total) return false;
   // the band from the depth's own noise, then a last refit with it

@@ -330,6 +330,59 @@ TEST(LaneDetector, ImprovedModeFindsTheRoadWithoutMarkings) {
   }
 }
 
+// With the camera's mount (the vehicle frame) and depth that shows no road (a short-baseline
+// stereo's depth far off, too sparse a LiDAR), the mount's plane is the road surface, and the
+// markers are placed on it.
+TEST(LaneDetector, WithoutRoadDepthTheMountIsTheRoad) {
+  RoadScene scene;
+  cv::Mat bgr, depth;
+  Frame f = makeFrame(scene, bgr, depth);
+  PlaneEstimate truth;
+  truth.valid = true;
+  truth.normal = scene.planeNormal();
+  truth.distance = scene.planeDistance();
+  f.has_vehicle_frame = true;
+  f.vehicle_from_camera = RoadFrame::fromPlane(truth).roadFromCamera();
+  // depth only above the horizon (trees, buildings): nothing of the road
+  for (int v = static_cast<int>(scene.K.cy); v < depth.rows; ++v) depth.row(v).setTo(0);
+  LaneDetector detector(Params::improved());
+  Result r;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(detector.detect(f, r), Status::kOk);
+    ASSERT_TRUE(r.plane.valid) << i;
+    EXPECT_LT(angleDeg(r.plane.normal, scene.planeNormal()), 1e-6);
+    EXPECT_NEAR(r.plane.distance, scene.planeDistance(), 1e-6);
+  }
+  ASSERT_TRUE(r.left.found);
+  ASSERT_TRUE(r.right.found);
+  EXPECT_LT(meanLateralError(r.left, scene.leftMarkerX()), 0.1);
+  EXPECT_LT(meanLateralError(r.right, scene.rightMarkerX()), 0.1);
+  // without the mount: no plane, no markers placed
+  f.has_vehicle_frame = false;
+  LaneDetector without(Params::improved());
+  ASSERT_EQ(without.detect(f, r), Status::kOk);
+  EXPECT_FALSE(r.plane.valid);
+  // a vehicle frame whose origin is 0.5 m above the road (not on it): once the depth has shown
+  // the road 0.5 m below the mount's plane, that plane no longer stands in for frames without
+  // road depth (the last plane holds for 5 of them, as against any jump)
+  cv::Mat bgr2, full_depth;
+  Frame g = makeFrame(scene, bgr2, full_depth);
+  g.has_vehicle_frame = true;
+  g.vehicle_from_camera = f.vehicle_from_camera;
+  g.vehicle_from_camera.translation().z() -= 0.5;
+  f.has_vehicle_frame = true;
+  f.vehicle_from_camera = g.vehicle_from_camera;
+  LaneDetector elevated(Params::improved());
+  ASSERT_EQ(elevated.detect(g, r), Status::kOk);
+  ASSERT_TRUE(r.plane.valid);
+  EXPECT_NEAR(r.plane.distance, scene.planeDistance(), 0.01);  // from the depth
+  for (int i = 0; i < 8; ++i) {
+    ASSERT_EQ(elevated.detect(f, r), Status::kOk);
+    const double mount_height = scene.planeDistance() - 0.5;
+    EXPECT_FALSE(r.plane.valid && std::fabs(r.plane.distance - mount_height) < 0.01) << i;
+  }
+}
+
 // One side without paint (a kerb-less edge, worn paint): the other side is reported on its own,
 // with its confidence; with report_only_complete nothing is.
 TEST(LaneDetector, OneGoodSideIsReportedOnItsOwn) {

@@ -137,6 +137,67 @@ TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
   EXPECT_NEAR(seeded.distance, scene.height, 0.02);
 }
 
+// A wet road that returns depth from its paint alone (two lines at x = +-1.7 m, 20 cm wide),
+// between 15 cm pavements from |x| = 2 m that return everywhere: the road holds a small share
+// of the depth.
+Scene wetRoadBetweenPavements() {
+  Scene scene;
+  scene.boxes = {{2.0, 100.0, 0.0, 200.0, 0.15}, {-100.0, -2.0, 0.0, 200.0, 0.15}};
+  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch), h = scene.height;
+  scene.hole = [c, sn, h](int u, int v) {
+    const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
+    const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
+    if (!(w.y() > 1e-6)) return false;
+    const double x = w.x() * h / w.y();  // where the ray meets the road
+    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > 0.1;
+  };
+  return scene;
+}
+
+TEST(RoadSurface, TheMountKeepsARoadSeenMostlyAsPaint) {
+  // the vehicle's mount (its up axis and the camera's height above the road) is where the fit
+  // starts: from there the plane stays on the road (within the pull of the far pavements, whose
+  // tops lie within the band there), and does not follow a last plane that the pavements pulled
+  // 2 deg and 10 cm off it onto them (15 cm above the road)
+  const Scene scene = wetRoadBetweenPavements();
+  const cv::Mat pts = scene.render();
+  RoadSurfaceSettings s = settings();
+  s.up = scene.normal();
+  s.max_tilt_deg = 4.0;
+  s.mount_height = scene.height;
+  PlaneEstimate previous;
+  previous.valid = true;
+  previous.normal =
+      Eigen::AngleAxisd(2.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()) * scene.normal();
+  previous.distance = scene.height + 0.1;
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(pts, kRows, s, previous, plane));
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.7);
+  EXPECT_NEAR(plane.distance, scene.height, 0.03);
+  // the camera's footprint and 10 m ahead lie within 4 cm of the road (the pavement: 15 cm)
+  const Eigen::Vector3d ahead = scene.normal().cross(Eigen::Vector3d::UnitX()).normalized();
+  for (double x : {0.0, 10.0}) {
+    const Eigen::Vector3d p = -scene.height * scene.normal() + x * ahead;  // on the road
+    EXPECT_LT(std::fabs(plane.normal.dot(p) + plane.distance), 0.04) << x;
+  }
+}
+
+TEST(RoadSurface, AMountOffTheRoadFallsBackToTheDepth) {
+  // a vehicle frame whose origin is not on the road (0.5 m above it): the mount's plane holds
+  // no depth, and the fit finds the road from the depth alone
+  Scene scene;
+  scene.noise = 0.01;
+  RoadSurfaceSettings s = settings();
+  s.up = scene.normal();
+  s.mount_height = scene.height - 0.5;
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(scene.render(), kRows, s, PlaneEstimate(), plane));
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.2);
+  EXPECT_NEAR(plane.distance, scene.height, 0.01);
+}
+
 TEST(RoadSurface, CrestEndsTheValidRange) {
   // a crest of 400 m vertical radius: the plane holds near the car; the valid range ends about
   // where the road ahead leaves the fitted plane by 8 cm (5 m steps)
