@@ -84,6 +84,9 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
         if (!std::isfinite(c.evidence.line_height)) {
           classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
           matchLengths(c.trace);
+          if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+              c.evidence.narrow_rows >= c.evidence.rows / 2)
+            dashedNarrowLine(f, side, c);
         }
       }
       // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
@@ -171,6 +174,9 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   const ClassifierInput& in = classifier_input_;
   double extent = 0.0, painted = 0.0;
   if (!followed(in, BoundaryClassifier::kTraceReach)) return;
+  // (a line followed past a vehicle ahead is the line up to it: no dash on the vehicle counts)
+  if (classifier_.cutAtObject(in, seed_pixels_, side == 0, params_))
+    seed_points_.resize(seed_pixels_.size());
   // within kDashRange, where a rail head is resolved on every row (farther, any thin line
   // breaks up)
   const int dashes = paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange);
@@ -180,7 +186,6 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   c.trace.scores.resize(c.trace.pixels.size(), c.trace.peak_score);
   c.evidence.kind = BoundaryKind::kPaint;
   c.evidence.reason = "narrow dashes (worn paint)";
-  (void)side;
 }
 
 bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m) {

@@ -140,7 +140,8 @@ bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::
                                      bool left, const Params& p) {
   // the first pixel (near to far) from which the line or the road beside it on the vehicle's
   // side reads depth well above the road on two of three measured pixels; the line before it
-  // must lie on the road (within the kerb height) on most of its measured pixels
+  // must lie on the road (within the kerb height) on most of its measured pixels (on all of
+  // them where fewer than kMinHeights are measured)
   if (in.plane == nullptr || !in.plane->valid) return false;
   const Intrinsics& K = in.K;
   object_.clear();  // per pixel: 1 object, 0 road, 2 off the road but no object, -1 no depth
@@ -169,7 +170,8 @@ bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::
         objects += object_[j] == 1;
       }
       if (objects < 2) continue;  // a lone reading (a pole's foot, noise)
-      if (measured < kMinHeights || on_road < kStepShare * measured ||
+      // (sparse depth may measure none of the line before it: then none may contradict it)
+      if ((measured < kMinHeights ? on_road < measured : on_road < kStepShare * measured) ||
           static_cast<int>(i) < kMinRows)
         return false;
       pixels.resize(i);

@@ -1,12 +1,15 @@
 // Candidate boundaries of a frame: lines traced from a response map, best seed first, the next
-// seeds off the lines already traced, the map restored; unclassified lines taken as paint.
+// seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
+// narrow line told as a rail head or as worn dashed paint.
 #include <cmath>
+#include <functional>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/boundary_candidates.h"
+#include "road_cross_section.h"
 #include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
@@ -116,6 +119,73 @@ TEST(BoundaryCandidateFinder, NothingAboveTheTraceThreshold) {
   if (n == 1) {
     EXPECT_TRUE(c[0].trace.pixels.empty());
   }
+}
+
+// A narrow bright band (5 cm, a rail head's width) 1.8 m left of the camera on a level road,
+// painted where @p painted(z) holds, traced from its response from 4 m to @p traced m ahead and
+// classified: the left side's first candidate.
+BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced) {
+  test::CrossSection cs;
+  cs.colour = [painted](double x, double z) {
+    return std::fabs(x + 1.8) < 0.025 && painted(z) ? test::grey(235) : test::grey(80);
+  };
+  test::RenderedRoad road;
+  road.render(cs);
+  const cv::Mat empty;
+  LaneFitter fitter;
+  CandidateFrame f;
+  f.colour = &road.bgr;
+  f.format = PixelFormat::kBgr8;
+  f.grey = &road.grey;
+  f.grey_rows = cv::Range(0, test::kH);
+  f.K = test::kK;
+  f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
+  f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
+                   test::kH - static_cast<int>(0.41 * test::kH));
+  f.roi_rows = cv::Range(f.roi.y, test::kH);
+  f.col_map = f.row_map = &empty;
+  f.points = &road.points;
+  f.road = &road.plane;
+  f.fitter = &fitter;
+  f.template_angle = {3 * M_PI / 4, M_PI / 4};
+  // its response: a band along the line's image
+  cv::Mat R(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  const std::vector<cv::Point2f> px = test::linePixels(-1.8);
+  for (size_t i = 1; i < px.size() && test::roadForward(px[i]) <= traced; ++i)
+    cv::line(R, px[i - 1], px[i], cv::Scalar(1.2), 5);
+  Params p = Params::improved();
+  p.boundary_candidates = 1;
+  BoundaryCandidateFinder finder;
+  finder.setParams(p);
+  finder.clear();
+  finder.traceLines(f, 0, R);
+  finder.classify(f);
+  int n = 0;
+  const BoundaryCandidate* c = finder.candidates(0, n);
+  return n > 0 ? c[0] : BoundaryCandidate();
+}
+
+TEST(BoundaryCandidateFinder, NarrowLineInOnePieceIsARailHead) {
+  const BoundaryCandidate c = narrowLine([](double) { return true; }, 7.0);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kRoadEdge) << c.evidence.reason;
+}
+
+TEST(BoundaryCandidateFinder, NarrowLineOfWornDashesIsPaint) {
+  // a worn dash's narrow core from 4 to 7 m, then, 2.5 m on, what is left of the next dash up
+  // to 14 m: 0.2 m fragments every metre (worn paint, raised markers), closer together than the
+  // 2 m gap between two dashes; the band shows on about half of the rows followed (a rail head
+  // on all of them)
+  const BoundaryCandidate c = narrowLine(
+      [](double z) {
+        return (z >= 4.0 && z < 7.0) || (z >= 9.5 && z < 14.0 && std::fmod(z, 1.0) < 0.2);
+      },
+      7.0);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
+  ASSERT_FALSE(c.trace.pixels.empty());
+  for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
 }
 
 }  // namespace

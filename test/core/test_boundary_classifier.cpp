@@ -209,5 +209,57 @@ TEST(BoundaryClassifier, NothingWithoutAPlane) {
   EXPECT_FALSE(f.ev.boundary);
 }
 
+// A line on the road running up to a vehicle's body 12 m ahead (1 m above the road), seen by a
+// sparse LiDAR that measured nothing nearer than the vehicle: the line is cut at the vehicle.
+// Rows nearer than 12 m carry no depth unless @p off_road is set: then one of the line's pixels
+// there reads 0.2 m above the road (off the road, no object), which contradicts the line.
+void sparseDepthToAVehicle(RenderedRoad& r, const std::vector<cv::Point2f>& line, bool off_road) {
+  for (int v = 0; v < kH; ++v) {
+    const double ry = (v - kK.cy) / kK.fy;
+    if (!(ry > 1e-6)) continue;
+    for (int u = 0; u < kW; ++u) {
+      const double rx = (u - kK.cx) / kK.fx;
+      cv::Vec3f& q = r.points.at<cv::Vec3f>(v, u);
+      if (kHeight / ry < 12.0) {
+        q = cv::Vec3f::all(std::nanf(""));
+      } else {
+        const double z = (kHeight - 1.0) / ry;  // the vehicle's body, 1 m above the road
+        q = cv::Vec3f(static_cast<float>(rx * z), static_cast<float>(ry * z), static_cast<float>(z));
+      }
+    }
+  }
+  if (!off_road) return;
+  const cv::Point2f& c = line[2];
+  const double ry = (c.y - kK.cy) / kK.fy, rx = (c.x - kK.cx) / kK.fx;
+  const double z = (kHeight - 0.2) / ry;
+  r.points.at<cv::Vec3f>(static_cast<int>(std::lround(c.y)), static_cast<int>(std::lround(c.x))) =
+      cv::Vec3f(static_cast<float>(rx * z), static_cast<float>(ry * z), static_cast<float>(z));
+}
+
+TEST(BoundaryClassifier, LineIsCutAtAVehicleThatSparseDepthAloneMeasures) {
+  CrossSection cs;
+  cs.colour = [](double x, double) { return std::fabs(x + 1.8) < 0.075 ? grey(220) : grey(80); };
+  Fixture f;
+  f.render(cs);
+  const std::vector<cv::Point2f> line = linePixels(-1.8);
+  sparseDepthToAVehicle(f, line, false);
+  std::vector<cv::Point2f> px = line;
+  ASSERT_TRUE(f.classifier.cutAtObject(f.in, px, true, Params::improved()));
+  ASSERT_FALSE(px.empty());
+  ASSERT_LT(px.size(), line.size());
+  // the line ends at its last pixel before the vehicle (heights are read up to a few rows
+  // beside a pixel, so the cut may come a pixel early)
+  EXPECT_LT(roadForward(px.back()), 12.0);
+  EXPECT_GT(roadForward(line[px.size()]), 11.0);
+
+  // one measured pixel before the vehicle off the road: nothing says the line lies on the road
+  Fixture g;
+  g.render(cs);
+  sparseDepthToAVehicle(g, line, true);
+  px = line;
+  EXPECT_FALSE(g.classifier.cutAtObject(g.in, px, true, Params::improved()));
+  EXPECT_EQ(px.size(), line.size());
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
