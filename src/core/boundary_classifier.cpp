@@ -19,8 +19,6 @@ constexpr int kMinRows = BandProfile::kMinRows;
 constexpr size_t kMaxMeasuredRows = BandProfile::kMaxMeasuredRows;
 constexpr size_t kMaxPaintRows = 24;         // rows a paint measurement measures at most
 constexpr int kMinHeights = 3;
-constexpr float kPaintOnRoad = 0.5f;         // share of kerb_height paint may lie off the road
-constexpr float kPaintOnLine = 0.1f;         // m: the paint's centre this close to the line
 constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint are not applied
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
@@ -303,16 +301,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   // and more so farther out: its body above its wheels)
   const bool vehicle_beside =
       static_cast<int>(far_step_.size()) >= kMinHeights && median(far_step_) > kObjectHeight;
-  // (a band of paint on the road, its own depth on the road, with the raised surface beyond it:
-  // a line painted beside a kerb, e.g. a double yellow line; the kerb is the road edge beyond
-  // it. A kerb's bright top is raised where it is traced, and its face is no band of paint.)
-  const int resolved_rows = paint_rows + narrow_rows + wide_rows;
-  const bool paint_before_step =
-      std::isfinite(ev.line_height) && std::fabs(ev.line_height) < kPaintOnRoad * kerb &&
-      !(std::isfinite(raise_h) && raise_h >= kerb) && paint_rows >= kMinRows &&
-      paint_rows >= kRidgeShare * resolved_rows && ev.ridge_rows >= kRidgeShare * ev.rows &&
-      std::fabs(median(shift_)) <= kPaintOnLine;
-  if (!vehicle_beside && !paint_before_step &&
+  if (!vehicle_beside &&
       ((std::isfinite(step_h) && step_h >= kerb && step_h <= kObjectHeight) ||
        (std::isfinite(raise_h) && raise_h >= kerb))) {
     ev.boundary = true;

@@ -82,31 +82,6 @@ TEST(BoundaryClassifier, KerbIsARoadEdge) {
   EXPECT_NEAR(f.ev.outer_height - f.ev.inner_height, 0.12, 0.03);
 }
 
-TEST(BoundaryClassifier, DoubleLineBesideAKerbIsPaint) {
-  // a double yellow line (two 10 cm lines 10 cm apart, x = 1.35-1.45 and 1.55-1.65) on the road
-  // and a 0.12 m kerb from x = 1.8 with a sidewalk beyond, both lighter than the asphalt but
-  // darker than the paint: the line traced next to the kerb is paint (its own depth on the
-  // road, a band of paint width at it); the kerb is the road edge beyond it
-  CrossSection cs;
-  cs.boxes = {{1.8, INFINITY, 0.12}};
-  cs.colour = [](double x, double) {
-    if ((x > 1.35 && x < 1.45) || (x > 1.55 && x < 1.65)) return cv::Vec3b(70, 215, 240);
-    if (x > 1.8 && x < 1.95) return grey(125);  // kerb stones
-    return x > 1.8 ? grey(110) : grey(80);
-  };
-  Fixture f;
-  f.classify(cs, linePixels(1.6), false);
-  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
-  EXPECT_EQ(f.ev.kind, BoundaryKind::kPaint) << f.ev.reason;
-  EXPECT_NEAR(f.ev.line_height, 0.0, 0.01);
-  EXPECT_NEAR(f.ev.width, 0.10, 0.04);
-  EXPECT_NEAR(f.ev.outer_height, 0.12, 0.02);  // the kerb is seen beyond it
-  // the kerb itself, traced on its stones, stays the road edge
-  f.classify(cs, linePixels(1.87, 0.12), false);
-  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
-  EXPECT_EQ(f.ev.kind, BoundaryKind::kRoadEdge) << f.ev.reason;
-}
-
 TEST(BoundaryClassifier, ShadowEdgeIsNoBoundary) {
   // sunlit asphalt right of x = 0.8, the shade left of it darker and bluer (sky-lit)
   CrossSection cs;
