@@ -40,6 +40,26 @@ void printStages(const StageTimings& sum, int n) {
       sum.model / n, sum.total / n);
 }
 
+// FNV-1a of a result's maps, traces and plane: equal bits give equal sums (SIMD targets, a change
+// that must not change any detection).
+uint64_t checksum(const Result& r) {
+  uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const void* p, size_t n) {
+    for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const uint8_t*>(p)[i]) * 1099511628211ull;
+  };
+  for (const cv::Mat* m : {&r.half_binary, &r.geometric, &r.response_left, &r.response_right})
+    for (int y = 0; y < m->rows; ++y) add(m->ptr(y), m->cols * m->elemSize());
+  for (const MarkerTrace* t : {&r.left, &r.right}) {
+    add(&t->found, sizeof(t->found));
+    add(&t->confidence, sizeof(t->confidence));
+    add(t->pixels.data(), t->pixels.size() * sizeof(t->pixels[0]));
+    add(t->points.data(), t->points.size() * sizeof(t->points[0]));
+  }
+  add(r.plane.normal.data(), 3 * sizeof(double));
+  add(&r.plane.distance, sizeof(r.plane.distance));
+  return h;
+}
+
 // The default mode on one real frame, again and again after a warm-up (the steady state of a
 // drive, as BM_Real_Detect): CPU ms per call and the stages' wall ms.
 template <typename Clock>
@@ -63,9 +83,10 @@ int profileReal(const std::string& label, int n, Clock cpu_ms) {
   });
   const double ms = cpu_ms() - start;
   printStages(sum, n);
-  std::printf("real %s %dx%d (scale %.3f) x%d on %s: %.3f ms CPU per call\n", label.c_str(),
-              f.colour.cols, f.colour.rows, r.scale, n, simd::targetName(simd::currentTarget()),
-              ms / n);
+  std::printf("real %s %dx%d (scale %.3f) x%d on %s: %.3f ms CPU per call, result %016llx\n",
+              label.c_str(), f.colour.cols, f.colour.rows, r.scale, n,
+              simd::targetName(simd::currentTarget()), ms / n,
+              static_cast<unsigned long long>(checksum(r)));
   return 0;
 }
 
