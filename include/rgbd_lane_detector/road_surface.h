@@ -138,7 +138,8 @@ class RoadSurface {
   std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
   std::vector<float> ratios_;
   std::vector<int> fill_from_;  ///< extendToCamera(): per column, the first row to fill
-  std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays
+  std::vector<int> fill_open_;  ///< extendToCamera(): the columns without depth so far
+  std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays and nx x
   double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;
   uint32_t rng_ = 1;

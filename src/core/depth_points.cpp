@@ -142,32 +142,41 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
   const double inv_fx = 1.0 / K.fx;
   const double inv_fy = 1.0 / K.fy;
   const int w = points.cols;
-  // the vector rows: the x factors of the columns and the valid raw range, once per call (the
-  // table is per thread and only grows)
+  // the vector rows: the x factors of the columns (of their source columns when resampled) and
+  // the valid raw range, once per call; a resampled row is first gathered into a row of the
+  // processing width (the tables are per thread and only grow)
   thread_local std::vector<float> ax;
+  thread_local std::vector<T> gathered;
   const bool u16 = std::is_same<T, uint16_t>::value;
   int raw_lo = 1, raw_hi = 0;
   float f_lo = 0.f, f_hi = 0.f;
-  const bool vec = !col_map && (!u16 || decode.scale > 0.0);
+  const bool vec = !u16 || decode.scale > 0.0;
   if (vec) {
     if (u16)
       validRaw(decode, raw_lo, raw_hi);
     else
       floatBounds(decode, f_lo, f_hi);
     if (static_cast<int>(ax.size()) < w) ax.resize(w);
-    for (int x = 0; x < w; ++x) ax[x] = static_cast<float>((x - K.cx) * inv_fx);
+    for (int x = 0; x < w; ++x)
+      ax[x] = static_cast<float>(((col_map ? col_map[x] : x) - K.cx) * inv_fx);
+    if (col_map && static_cast<int>(gathered.size()) < w) gathered.resize(w);
   }
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;
     const T* src = depth.ptr<T>(sy);
     float* dst = points.ptr<float>(y);
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
+    const T* row = src;  // the row's depth by processing column
+    if (vec && col_map) {
+      for (int x = 0; x < w; ++x) gathered[x] = src[col_map[x]];
+      row = gathered.data();
+    }
     int x = 0;
     if (vec && u16)
-      x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(src), w, decode.scale, raw_lo,
+      x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(row), w, decode.scale, raw_lo,
                                raw_hi, ax.data(), ry, dst);
     else if (vec)
-      x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(src), w, f_lo, f_hi, ax.data(), ry,
+      x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(row), w, f_lo, f_hi, ax.data(), ry,
                                dst);
     for (; x < w; ++x) {
       const int sx = col_map ? col_map[x] : x;
