@@ -190,6 +190,7 @@ class LaneDetector {
   // per-frame buffers (allocated on size change only)
   cv::Mat colour_small_;
   cv::Mat* match_maps_[4] = {};  ///< matchMaps()
+  cv::Mat depth_blocks_;  ///< depthBlocks() of points_ (before the road's extension)
   cv::Mat grey_;        ///< grey of the searched rows at the processing scale (improved mode)
   cv::Range grey_input_rows_;  ///< rows of the input image that the classifier's grey covers
   cv::Mat half_binary_;

@@ -135,9 +135,30 @@ void floatBounds(const DepthDecoder& dec, float& lo, float& hi) {
   }
 }
 
+// One row of depthBlocks(): a block is empty when none of its floats is a number (a point is
+// three numbers or three NaN), counted by a loop the compiler vectorises.
+void blocksOfRow(const float* p, int w, uint8_t* out) {
+  for (int b = 0; b * kDepthBlock < w; ++b) {
+    const int n = 3 * (std::min(w, (b + 1) * kDepthBlock) - b * kDepthBlock);
+    const float* q = p + 3 * b * kDepthBlock;
+    int numbers = 0;
+    for (int i = 0; i < n; ++i) numbers += q[i] == q[i];
+    out[b] = numbers > 0;
+  }
+}
+
+void allocateBlocks(const cv::Size& size, cv::Mat& blocks) {
+  const cv::Size s((size.width + kDepthBlock - 1) / kDepthBlock, size.height);
+  if (blocks.size() != s || blocks.type() != CV_8UC1) {
+    blocks.create(s, CV_8UC1);
+    blocks.setTo(0);
+  }
+}
+
 template <typename T>
 void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrinsics& K, int r0,
-                 int r1, cv::Mat& points, const int* col_map, const int* row_map) {
+                 int r1, cv::Mat& points, const int* col_map, const int* row_map,
+                 cv::Mat* blocks) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const double inv_fx = 1.0 / K.fx;
   const double inv_fy = 1.0 / K.fy;
@@ -190,6 +211,7 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
       q[1] = ry * d;
       q[2] = d;
     }
+    if (blocks) blocksOfRow(dst, w, blocks->ptr<uint8_t>(y));
   }
 }
 
@@ -197,7 +219,7 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
 
 bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intrinsics& K,
                    const cv::Range& rows, cv::Mat& points, const cv::Mat& col_map,
-                   const cv::Mat& row_map) {
+                   const cv::Mat& row_map, cv::Mat* blocks) {
   if (depth.type() != CV_16UC1 && depth.type() != CV_32FC1) return false;
   const cv::Size size(col_map.empty() ? depth.cols : static_cast<int>(col_map.total()),
                       row_map.empty() ? depth.rows : static_cast<int>(row_map.total()));
@@ -206,11 +228,19 @@ bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intr
   const int r1 = std::min(rows.end, size.height);
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
   const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
+  if (blocks) allocateBlocks(size, *blocks);
   if (depth.type() == CV_16UC1)
-    convertRows<uint16_t>(depth, decoder, K, r0, r1, points, cm, rm);
+    convertRows<uint16_t>(depth, decoder, K, r0, r1, points, cm, rm, blocks);
   else
-    convertRows<float>(depth, decoder, K, r0, r1, points, cm, rm);
+    convertRows<float>(depth, decoder, K, r0, r1, points, cm, rm, blocks);
   return true;
+}
+
+void depthBlocks(const cv::Mat& points, const cv::Range& rows, cv::Mat& blocks) {
+  CV_Assert(points.type() == CV_32FC3);
+  allocateBlocks(points.size(), blocks);
+  for (int y = std::max(rows.start, 0); y < std::min(rows.end, points.rows); ++y)
+    blocksOfRow(points.ptr<float>(y), points.cols, blocks.ptr<uint8_t>(y));
 }
 
 void fillDepthHoles(cv::Mat& points, const cv::Range& rows, int max_gap) {
