@@ -31,11 +31,19 @@ void storePoints(DF df, hn::Mask<DF> keep, hn::Vec<DF> d, const float* ax, float
                         hn::IfThenElse(keep, d, nan), df, dst);
 }
 
+// The depth block map of a vector of N columns from x: its blocks (one when N divides
+// kDepthBlock) hold depth when any lane is kept.
+template <class DF>
+void markBlocks(DF df, hn::Mask<DF> keep, int x, int N, uint8_t* blocks) {
+  if (!blocks || hn::AllFalse(df, keep)) return;
+  for (int b = x / kDepthBlock; b <= (x + N - 1) / kDepthBlock; ++b) blocks[b] = 1;
+}
+
 // 16-bit depth of one row (no column map): the decoder's range test as the interval [lo, hi] of
 // raw values, the decode in double rounded once, x from the table ax of float((u - cx) / fx).
 // Returns the columns done.
 int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float* ax, float ry,
-           float* dst) {
+           float* dst, uint8_t* blocks) {
   const hn::ScalableTag<int32_t> d32;
   const hn::Rebind<uint16_t, decltype(d32)> d16;
   const hn::Rebind<float, decltype(d32)> df;
@@ -51,13 +59,15 @@ int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float
     const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
     const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
     storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
+    markBlocks(df, hn::RebindMask(df, in), x, N, blocks);
   }
   return x;
 }
 
 // Float depth of one row (no column map): valid when in (0, inf) and in [lo, hi], the float
 // bounds that compare as the decoder's double ones. Returns the columns done.
-int rowF32(const float* src, int w, float lo, float hi, const float* ax, float ry, float* dst) {
+int rowF32(const float* src, int w, float lo, float hi, const float* ax, float ry, float* dst,
+           uint8_t* blocks) {
   const hn::ScalableTag<float> df;
   const int N = static_cast<int>(hn::Lanes(df));
   const auto zero = hn::Zero(df), inf = hn::Set(df, std::numeric_limits<float>::infinity());
@@ -68,6 +78,7 @@ int rowF32(const float* src, int w, float lo, float hi, const float* ax, float r
     const auto ok =
         hn::And(hn::And(hn::Gt(d, zero), hn::Lt(d, inf)), hn::And(hn::Ge(d, vlo), hn::Le(d, vhi)));
     storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
+    markBlocks(df, ok, x, N, blocks);
   }
   return x;
 }
@@ -80,10 +91,10 @@ namespace rgbd_lane_detector {
 namespace {
 
 // The scalar target: no column done by a vector (convertRows() does them all).
-int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, float*) {
+int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, float*, uint8_t*) {
   return 0;
 }
-int rowF32Scalar(const float*, int, float, float, const float*, float, float*) {
+int rowF32Scalar(const float*, int, float, float, const float*, float, float*, uint8_t*) {
   return 0;
 }
 #ifdef RLD_HAVE_HWY
@@ -192,13 +203,15 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
       for (int x = 0; x < w; ++x) gathered[x] = src[col_map[x]];
       row = gathered.data();
     }
+    uint8_t* bl = blocks ? blocks->ptr<uint8_t>(y) : nullptr;  // marked as the row is made
+    if (bl) std::memset(bl, 0, blocks->cols);
     int x = 0;
     if (vec && u16)
       x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(row), w, decode.scale, raw_lo,
-                               raw_hi, ax.data(), ry, dst);
+                               raw_hi, ax.data(), ry, dst, bl);
     else if (vec)
       x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(row), w, f_lo, f_hi, ax.data(), ry,
-                               dst);
+                               dst, bl);
     for (; x < w; ++x) {
       const int sx = col_map ? col_map[x] : x;
       const float d = decode(src[sx]);
@@ -210,8 +223,8 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
       q[0] = static_cast<float>((sx - K.cx) * inv_fx) * d;
       q[1] = ry * d;
       q[2] = d;
+      if (bl) bl[x / kDepthBlock] = 1;
     }
-    if (blocks) blocksOfRow(dst, w, blocks->ptr<uint8_t>(y));
   }
 }
 
