@@ -5,6 +5,7 @@
 //   perf record -g profile_core real pandaset 300
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 
 #include <sys/resource.h>
@@ -17,6 +18,7 @@
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/params_io.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "real_inputs.h"
@@ -63,7 +65,7 @@ uint64_t checksum(const Result& r) {
 // The default mode on one real frame, again and again after a warm-up (the steady state of a
 // drive, as BM_Real_Detect): CPU ms per call and the stages' wall ms.
 template <typename Clock>
-int profileReal(const std::string& label, int n, Clock cpu_ms) {
+int profileReal(const std::string& label, int n, const Params& params, Clock cpu_ms) {
   const bench::RealInput* in = bench::realInput(label);
   tools::DatasetFrame data;
   std::string error;
@@ -72,7 +74,7 @@ int profileReal(const std::string& label, int n, Clock cpu_ms) {
     return 2;
   }
   const Frame f = data.toFrame();
-  LaneDetector det{Params()};
+  LaneDetector det(params);
   Result r;
   for (int i = 0; i < 5; ++i) det.detect(f, r);
   StageTimings sum;
@@ -96,7 +98,7 @@ int main(int argc, char** argv) {
         stderr,
         "usage: %s detect|improved|halfbinary|points|normals|normals_only|matching|response|targets WIDTH N "
         "[TARGET (AVX3, AVX2, SSE4, NEON, scalar)]\n"
-        "       %s real radiate_fog|kitti|nuscenes|pandaset|dgp N [TARGET]\n",
+        "       %s real radiate_fog|kitti|nuscenes|pandaset|dgp N [TARGET] [param=value ...]\n",
         argv[0], argv[0]);
     return 2;
   }
@@ -106,7 +108,19 @@ int main(int argc, char** argv) {
     return 0;
   }
   const int n = std::atoi(argv[3]);
-  if (argc > 4) {  // a SIMD target of this machine (simd.h), else the best
+  // real: detector parameters name=value after N (the default mode's otherwise)
+  Params real_params;
+  int argn = argc;
+  while (stage == "real" && argn > 4 && std::strchr(argv[argn - 1], '=')) {
+    const std::string kv = argv[--argn];
+    const size_t eq = kv.find('=');
+    std::string error;
+    if (!setParamText(real_params, kv.substr(0, eq), kv.substr(eq + 1), &error)) {
+      std::fprintf(stderr, "%s: %s\n", kv.c_str(), error.c_str());
+      return 2;
+    }
+  }
+  if (argn > 4) {  // a SIMD target of this machine (simd.h), else the best
     const simd::Target t = simd::targetByName(argv[4]);
     if (t < 0) {
       std::fprintf(stderr, "target %s not available here\n", argv[4]);
@@ -121,7 +135,7 @@ int main(int argc, char** argv) {
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
   };
-  if (stage == "real") return profileReal(argv[2], n, cpu_ms);
+  if (stage == "real") return profileReal(argv[2], n, real_params, cpu_ms);
   const int width = std::atoi(argv[2]);
   std::vector<bench::RoadFrame> frames(4);
   for (int i = 0; i < 4; ++i) bench::renderRoadFrame(width, width * 380 / 640, i, frames[i]);
