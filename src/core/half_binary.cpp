@@ -178,22 +178,25 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
   const int* rm = row_map.ptr<int>();
   const int e = static_cast<int>(colour.elemSize());
   // each row's pixels gathered into a row of the output's width, then converted (the buffer is
-  // per thread and only grows)
-  // (3 bytes a pixel as one 4-byte copy that the next pixel overwrites, except where the 4th
-  // byte would be read past the source row)
+  // per thread and only grows); 3 bytes a pixel as one 4-byte copy that the next pixel
+  // overwrites, up to the first column whose 4th byte would be read past the source row
   thread_local std::vector<uint8_t> gathered;
+  int w4 = 0;
+  while (w4 < w && cm[w4] + 1 < colour.cols) ++w4;
+  const size_t row_bytes = colour.cols * colour.elemSize();
   const size_t bytes = static_cast<size_t>(w) * e + 1;
   if (gathered.size() < bytes) gathered.resize(bytes);
   for (int y = r.start; y < r.end; ++y) {
     const uint8_t* src = colour.ptr<uint8_t>(rm[y]);
     uint8_t* g = gathered.data();
+    if (y + 1 < r.end) {  // the next source row into the cache while this one is gathered
+      const uint8_t* next = colour.ptr<uint8_t>(rm[y + 1]);
+      for (size_t i = 0; i < row_bytes; i += 64) __builtin_prefetch(next + i);
+    }
     if (e == 3) {
-      for (int x = 0; x < w; ++x) {
-        if (cm[x] + 1 < colour.cols)
-          std::memcpy(g + 3 * x, src + 3 * cm[x], 4);
-        else
-          std::memcpy(g + 3 * x, src + 3 * cm[x], 3);
-      }
+      int x = 0;
+      for (; x < w4; ++x) std::memcpy(g + 3 * x, src + 3 * cm[x], 4);
+      for (; x < w; ++x) std::memcpy(g + 3 * x, src + 3 * cm[x], 3);
     } else if (e == 4) {
       for (int x = 0; x < w; ++x) std::memcpy(g + 4 * x, src + 4 * cm[x], 4);
     } else {
