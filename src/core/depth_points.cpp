@@ -36,6 +36,10 @@ void storePoints(DF df, hn::Mask<DF> keep, hn::Vec<DF> d, const float* ax, float
 template <class DF>
 void markBlocks(DF df, hn::Mask<DF> keep, int x, int N, uint8_t* blocks) {
   if (!blocks || hn::AllFalse(df, keep)) return;
+  if (N <= kDepthBlock && kDepthBlock % N == 0) {  // x is a multiple of N: one block
+    blocks[x / kDepthBlock] = 1;
+    return;
+  }
   for (int b = x / kDepthBlock; b <= (x + N - 1) / kDepthBlock; ++b) blocks[b] = 1;
 }
 
