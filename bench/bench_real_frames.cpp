@@ -1,7 +1,6 @@
 #include "bench_real_frames.h"
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -10,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include "opencv_pipeline.h"
+#include "real_inputs.h"
 #include "rgbd_lane_detector/lane_detector.h"
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 
@@ -19,22 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One real frame per camera of the corpus: the sizes users run (RADIATE's ZED 672x376, KITTI
-// 1242x375, nuScenes 1600x900, PandaSet 1920x1080, DGP 1936x1216), each with its LiDAR depth.
-struct RealInput {
-  const char* label;   ///< benchmark argument name
-  const char* type;    ///< dataset reader
-  const char* folder;  ///< under the realdata root
-  const char* frame;   ///< frame name in it ("" = the first)
-};
-constexpr RealInput kInputs[] = {
-    {"radiate_fog", "stereo_lidar", "sequences/radiate_fog", ""},
-    {"kitti", "streets", "streets", "kittiobj_train000001"},
-    {"nuscenes", "streets", "streets", "nuscenes_n015_CAMFRONT_1532402927612460"},
-    {"pandaset", "streets", "streets", "pandaset_002_40"},
-    {"dgp", "streets", "streets", "dgp_scene02_15616458249936530"},
-};
-
 constexpr int kWarmUp = 5;  // detect() calls before timing: adapted templates, tracked lane model
 
 struct RealData {
@@ -42,30 +26,16 @@ struct RealData {
   LineTemplate left, right;  ///< the paper mode's steady-state templates (the OpenCV pipeline's)
 };
 
-std::string realdataRoot() {
-  if (const char* env = std::getenv("RLD_REALDATA")) return env;
-  return RLD_DEFAULT_REALDATA;
-}
-
 bool load(const RealInput& in, RealData& out, std::string& error) {
-  tools::DatasetOptions o;
-  o.path = (fs::path(realdataRoot()) / in.folder).string();
-  o.type = in.type;
-  auto reader = tools::openDataset(o, error);
-  if (!reader) return false;
-  while (reader->next(out.frame))
-    if (in.frame[0] == '\0' || out.frame.name == in.frame) {
-      LaneDetector det(Params::paper());
-      Result r;
-      for (int i = 0; i < kWarmUp; ++i) det.detect(out.frame.toFrame(), r);
-      out.left = det.leftTemplate();
-      out.right = det.rightTemplate();
-      out.left.image = out.left.image.clone();
-      out.right.image = out.right.image.clone();
-      return true;
-    }
-  error = reader->error().empty() ? std::string("frame ") + in.frame + " not found" : reader->error();
-  return false;
+  if (!loadRealFrame(in, out.frame, error)) return false;
+  LaneDetector det(Params::paper());
+  Result r;
+  for (int i = 0; i < kWarmUp; ++i) det.detect(out.frame.toFrame(), r);
+  out.left = det.leftTemplate();
+  out.right = det.rightTemplate();
+  out.left.image = out.left.image.clone();
+  out.right.image = out.right.image.clone();
+  return true;
 }
 
 void setSize(benchmark::State& state, const RealData& d, double scale) {
@@ -126,7 +96,7 @@ int registerRealFrameBenchmarks() {
     return 0;
   }
   int n = 0;
-  for (const RealInput& in : kInputs) {
+  for (const RealInput& in : kRealInputs) {
     auto d = std::make_shared<RealData>();
     std::string error;
     if (!load(in, *d, error)) {

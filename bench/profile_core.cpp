@@ -1,8 +1,11 @@
 // Fixed-work driver for instruction-count profiling of one stage or the whole detect():
 //   valgrind --tool=callgrind --toggle-collect='*measured*' profile_core matching 1280 10
 // (Google Benchmark picks its own iteration counts, which makes callgrind totals hard to compare.)
+// A real corpus frame (bench/real_inputs.h) in the default mode, CPU time and stage timings:
+//   perf record -g profile_core real pandaset 300
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 
 #include <sys/resource.h>
@@ -15,8 +18,10 @@
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/lane_detector.h"
+#include "rgbd_lane_detector/params_io.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
+#include "real_inputs.h"
 #include "road_frames.h"
 #include "simd.h"
 
@@ -28,13 +33,73 @@ __attribute__((noinline)) void measured(int n, F&& f) {
   for (int i = 0; i < n; ++i) f(i);
 }
 
+void printStages(const StageTimings& sum, int n) {
+  std::printf(
+      "stages ms: preprocess %.3f points %.3f road %.3f normals %.3f matching %.3f response %.3f "
+      "pca %.3f tracing %.3f classify %.3f plane %.3f model %.3f total %.3f\n",
+      sum.preprocess / n, sum.points / n, sum.road / n, sum.normals / n, sum.matching / n,
+      sum.response / n, sum.pca / n, sum.tracing / n, sum.classify / n, sum.plane / n,
+      sum.model / n, sum.total / n);
+}
+
+// FNV-1a of a result's maps, traces and plane: equal bits give equal sums (SIMD targets, a change
+// that must not change any detection).
+uint64_t checksum(const Result& r) {
+  uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const void* p, size_t n) {
+    for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const uint8_t*>(p)[i]) * 1099511628211ull;
+  };
+  for (const cv::Mat* m : {&r.half_binary, &r.geometric, &r.response_left, &r.response_right})
+    for (int y = 0; y < m->rows; ++y) add(m->ptr(y), m->cols * m->elemSize());
+  for (const MarkerTrace* t : {&r.left, &r.right}) {
+    add(&t->found, sizeof(t->found));
+    add(&t->confidence, sizeof(t->confidence));
+    add(t->pixels.data(), t->pixels.size() * sizeof(t->pixels[0]));
+    add(t->points.data(), t->points.size() * sizeof(t->points[0]));
+  }
+  add(r.plane.normal.data(), 3 * sizeof(double));
+  add(&r.plane.distance, sizeof(r.plane.distance));
+  return h;
+}
+
+// The default mode on one real frame, again and again after a warm-up (the steady state of a
+// drive, as BM_Real_Detect): CPU ms per call and the stages' wall ms.
+template <typename Clock>
+int profileReal(const std::string& label, int n, const Params& params, Clock cpu_ms) {
+  const bench::RealInput* in = bench::realInput(label);
+  tools::DatasetFrame data;
+  std::string error;
+  if (!in || !bench::loadRealFrame(*in, data, error)) {
+    std::fprintf(stderr, "real frame %s: %s\n", label.c_str(), in ? error.c_str() : "unknown");
+    return 2;
+  }
+  const Frame f = data.toFrame();
+  LaneDetector det(params);
+  Result r;
+  for (int i = 0; i < 5; ++i) det.detect(f, r);
+  StageTimings sum;
+  const double start = cpu_ms();
+  measured(n, [&](int) {
+    det.detect(f, r);
+    sum += r.timings;
+  });
+  const double ms = cpu_ms() - start;
+  printStages(sum, n);
+  std::printf("real %s %dx%d (scale %.3f) x%d on %s: %.3f ms CPU per call, result %016llx\n",
+              label.c_str(), f.colour.cols, f.colour.rows, r.scale, n,
+              simd::targetName(simd::currentTarget()), ms / n,
+              static_cast<unsigned long long>(checksum(r)));
+  return 0;
+}
+
 int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
         "usage: %s detect|improved|halfbinary|points|normals|normals_only|matching|response|targets WIDTH N "
-        "[TARGET (AVX3, AVX2, SSE4, NEON, scalar)]\n",
-        argv[0]);
+        "[TARGET (AVX3, AVX2, SSE4, NEON, scalar)]\n"
+        "       %s real radiate_fog|kitti|nuscenes|pandaset|dgp N [TARGET] [param=value ...]\n",
+        argv[0], argv[0]);
     return 2;
   }
   const std::string stage = argv[1];
@@ -42,8 +107,20 @@ int main(int argc, char** argv) {
     for (simd::Target t : simd::availableTargets()) std::printf("%s\n", simd::targetName(t));
     return 0;
   }
-  const int width = std::atoi(argv[2]), n = std::atoi(argv[3]);
-  if (argc > 4) {  // a SIMD target of this machine (simd.h), else the best
+  const int n = std::atoi(argv[3]);
+  // real: detector parameters name=value after N (the default mode's otherwise)
+  Params real_params;
+  int argn = argc;
+  while (stage == "real" && argn > 4 && std::strchr(argv[argn - 1], '=')) {
+    const std::string kv = argv[--argn];
+    const size_t eq = kv.find('=');
+    std::string error;
+    if (!setParamText(real_params, kv.substr(0, eq), kv.substr(eq + 1), &error)) {
+      std::fprintf(stderr, "%s: %s\n", kv.c_str(), error.c_str());
+      return 2;
+    }
+  }
+  if (argn > 4) {  // a SIMD target of this machine (simd.h), else the best
     const simd::Target t = simd::targetByName(argv[4]);
     if (t < 0) {
       std::fprintf(stderr, "target %s not available here\n", argv[4]);
@@ -52,6 +129,14 @@ int main(int argc, char** argv) {
     simd::forceTarget(t);
   }
   cv::setNumThreads(1);
+  // CPU time of this process: on a shared machine wall time also counts other jobs' slices
+  auto cpu_ms = [] {
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+  };
+  if (stage == "real") return profileReal(argv[2], n, real_params, cpu_ms);
+  const int width = std::atoi(argv[2]);
   std::vector<bench::RoadFrame> frames(4);
   for (int i = 0; i < 4; ++i) bench::renderRoadFrame(width, width * 380 / 640, i, frames[i]);
   const Params params = Params::paper();
@@ -73,12 +158,6 @@ int main(int argc, char** argv) {
   NccMatcher matcher;
   matcher.match(hb, r.roi, det.leftTemplate(), det.rightTemplate(), ml, mr);
   bool ok = true;
-  // CPU time of this process: on a shared machine wall time also counts other jobs' slices
-  auto cpu_ms = [] {
-    timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-  };
   const double start = cpu_ms();
   LaneDetector improved(Params::improved());
   StageTimings sum;
@@ -120,13 +199,7 @@ int main(int argc, char** argv) {
   rusage usage;
   getrusage(RUSAGE_SELF, &usage);
   std::printf("peak RSS %ld kB\n", usage.ru_maxrss);
-  if (stage == "improved")  // wall time inside detect(), ms per frame
-    std::printf(
-        "stages ms: preprocess %.3f points %.3f road %.3f normals %.3f matching %.3f response %.3f "
-        "pca %.3f tracing %.3f classify %.3f plane %.3f model %.3f total %.3f\n",
-        sum.preprocess / n, sum.points / n, sum.road / n, sum.normals / n, sum.matching / n,
-        sum.response / n, sum.pca / n, sum.tracing / n, sum.classify / n, sum.plane / n,
-        sum.model / n, sum.total / n);
+  if (stage == "improved") printStages(sum, n);  // wall time inside detect(), ms per frame
   std::printf("%s %d x%d on %s: %.3f ms CPU per call, slopes %d/%d %d/%d\n", stage.c_str(), width,
               n, simd::targetName(simd::currentTarget()), ms / n, det.leftTemplate().slope_p,
               det.leftTemplate().slope_q, det.rightTemplate().slope_p, det.rightTemplate().slope_q);

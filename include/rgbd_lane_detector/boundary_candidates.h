@@ -37,7 +37,7 @@ namespace rgbd_lane_detector {
 struct CandidateFrame {
   const cv::Mat* colour = nullptr;  ///< input colour image
   PixelFormat format = PixelFormat::kBgr8;
-  const cv::Mat* grey = nullptr;  ///< grey of the input image, valid in grey_rows
+  const cv::Mat* grey = nullptr;  ///< grey of the input image in grey_rows (null: from colour)
   cv::Range grey_rows;
   Intrinsics K;         ///< of the input image
   cv::Size input_size;  ///< input image size

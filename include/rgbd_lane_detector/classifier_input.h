@@ -13,6 +13,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/geometry.h"
+#include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
@@ -21,8 +22,9 @@ namespace rgbd_lane_detector {
 struct ClassifierInput {
   const cv::Mat* colour = nullptr;  ///< input colour image
   PixelFormat format = PixelFormat::kBgr8;
-  /// CV_8UC1 grey of the input image (greyValue() weights), valid in the rows @c grey_rows; the
-  /// classifier measures nothing on other rows
+  /// optional CV_8UC1 grey of the input image (greyValue() weights) in the rows @c grey_rows;
+  /// without it the grey values are computed from the colour. The classifier measures nothing
+  /// outside grey_rows.
   const cv::Mat* grey = nullptr;
   cv::Range grey_rows;
   Intrinsics K;                     ///< of the input image
@@ -52,16 +54,22 @@ class ImageRow {
  public:
   /// Row @p v of @p in; valid() is false outside the grey image's rows.
   ImageRow(const ClassifierInput& in, int v) {
-    if (v < in.grey_rows.start || v >= in.grey_rows.end || v < 0 || v >= in.grey->rows) return;
-    grey_ = in.grey->ptr<uint8_t>(v);
+    if (v < in.grey_rows.start || v >= in.grey_rows.end || v < 0 || v >= in.colour->rows ||
+        (in.grey && v >= in.grey->rows))
+      return;
+    grey_ = in.grey ? in.grey->ptr<uint8_t>(v) : nullptr;
     colour_ = in.colour->ptr<uint8_t>(v);
     cn_ = in.colour->channels();
     const PixelLayout layout = pixelLayout(in.format);
     r_ = layout.r, g_ = layout.g, b_ = layout.b;
   }
-  bool valid() const { return grey_ != nullptr; }
-  /// Grey value (BT.601 luma) at column @p u.
-  float grey(int u) const { return grey_[u]; }
+  bool valid() const { return colour_ != nullptr; }
+  /// Grey value (BT.601 luma, greyValue()) at column @p u.
+  float grey(int u) const {
+    if (grey_) return grey_[u];
+    const uint8_t* px = colour_ + static_cast<size_t>(u) * cn_;
+    return cn_ == 1 ? px[0] : greyValue(px[r_], px[g_], px[b_]);
+  }
   /// Colour at column @p u (0-255).
   void rgb(int u, float& R, float& G, float& B) const {
     const uint8_t* px = colour_ + static_cast<size_t>(u) * cn_;

@@ -43,11 +43,23 @@ struct DepthDecoder {
  * @param[out] points CV_32FC3, depth size (allocated only when its size or type differs).
  * @param[in] col_map optional: CV_32SC1 1xW source column of each output column.
  * @param[in] row_map optional: CV_32SC1 1xH source row of each output row.
+ * @param[out] blocks optional: depthBlocks() of the rows filled (made while they are in cache).
  * @return false when the depth type is unsupported.
  */
 bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intrinsics& K,
                    const cv::Range& rows, cv::Mat& points, const cv::Mat& col_map = cv::Mat(),
-                   const cv::Mat& row_map = cv::Mat());
+                   const cv::Mat& row_map = cv::Mat(), cv::Mat* blocks = nullptr);
+
+/// Columns per byte of a depth block map (depthBlocks()).
+constexpr int kDepthBlock = 16;
+
+/**
+ * @brief The depth block map of some rows of organised points: a CV_8UC1 of the points' rows
+ * and ceil(cols / kDepthBlock) columns, 0 where a row's kDepthBlock columns hold no number at
+ * all (no depth: a reader of z may pass them over), 1 elsewhere. Sparse depth (a LiDAR) leaves
+ * most blocks empty. Rows outside @p rows are left as they are (0 when allocated).
+ */
+void depthBlocks(const cv::Mat& points, const cv::Range& rows, cv::Mat& blocks);
 
 /**
  * @brief Fill invalid depth along rows from the nearest valid neighbours, when both ends of a

@@ -25,6 +25,16 @@ namespace rgbd_lane_detector {
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out);
 
+/**
+ * @brief halfBinary() of the colour resampled through index maps (remapNearest()'s): pixel
+ * (x, y) of @p out is the half-binary value of @p colour at (col_map[x], row_map[y]), the same
+ * as halfBinary() of the resampled colour, without resampling the colour.
+ * @param[in] col_map,row_map CV_32SC1 1xW and 1xH source columns and rows.
+ * @param[out] out CV_8UC1 W x H (allocated, and zeroed, only when its size or type differs).
+ */
+void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
+                cv::Mat& out, const cv::Mat& col_map, const cv::Mat& row_map);
+
 /// Grey value of one pixel with the weights halfBinary() uses: OpenCV's 15-bit fixed-point
 /// BT.601 (0.299, 0.587, 0.114), so it equals cv::cvtColor(..., COLOR_BGR2GRAY) bit for bit.
 inline int greyValue(int r, int g, int b) {

@@ -140,12 +140,20 @@ class LaneDetector {
   void matchTemplates();
   /// plane_gate: matches off the previous frame's plane removed (applyPlaneGate()).
   void gateByPlane();
-  /// Where G enters R (fusionMask()).
-  void maskFusion();
+  /// Where G enters R (fusionMask()); @p gate: gateByPlane() in the same pass (gatedFusionMask()).
+  void maskFusion(bool gate);
   /// 5. R of every matched map.
   void fuseResponses();
   /// A side acquires this frame (its acquisition template is matched too).
   bool acquiring() const { return acquiring_[0] || acquiring_[1]; }
+  /// The match maps: both sides', then both acquisition maps (used when acquiring()).
+  cv::Mat* const* matchMaps() {
+    match_maps_[0] = &response_left_;
+    match_maps_[1] = &response_right_;
+    match_maps_[2] = &acquisition_response_left_;
+    match_maps_[3] = &acquisition_response_right_;
+    return match_maps_;
+  }
   /// 6.-7. Each side's seeds, PCA angles and traced lines (BoundaryCandidateFinder).
   void traceCandidates(const Frame& frame);
   /// What each traced line is: paint, road edge or no boundary (improved mode).
@@ -181,8 +189,9 @@ class LaneDetector {
 
   // per-frame buffers (allocated on size change only)
   cv::Mat colour_small_;
+  cv::Mat* match_maps_[4] = {};  ///< matchMaps()
+  cv::Mat depth_blocks_;  ///< depthBlocks() of points_ (before the road's extension)
   cv::Mat grey_;        ///< grey of the searched rows at the processing scale (improved mode)
-  cv::Mat grey_input_;  ///< grey of the input image's searched rows when it is resampled
   cv::Range grey_input_rows_;  ///< rows of the input image that the classifier's grey covers
   cv::Mat half_binary_;
   cv::Mat points_;

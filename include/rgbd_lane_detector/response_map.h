@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/params.h"
+#include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
 
@@ -67,6 +68,33 @@ constexpr int kMaxFusedMaps = 4;
  */
 void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const cv::Range& rows,
                 cv::Mat& mask);
+
+/**
+ * @brief applyPlaneGate() on each pair of maps, then fusionMask() of them, in one pass over the
+ * maps (the same maps and mask as the two in turn): the maps are read once, and only where one
+ * is at min(tau, tau_g) or above is a point or a map read again.
+ * @param[in] points CV_32FC3 organised points (the maps' size).
+ * @param[in] plane the previous frame's plane (valid).
+ * @param[in] max_off,tau applyPlaneGate()'s.
+ * @param[in,out] maps @p count (2 or 4) CV_32FC1 maps, pairs (left, right) in turn.
+ * @param[in] tau_g,rows,mask fusionMask()'s.
+ */
+void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float max_off, float tau,
+                     cv::Mat* const* maps, int count, float tau_g, const cv::Range& rows,
+                     cv::Mat& mask);
+
+/**
+ * @brief fuseResponse() in place on maps whose fusionMask() is @p mask: R differs from M only
+ * where M >= tau_g, which the mask holds, so only the mask's pixels are read (the same values as
+ * fuseResponse(), without a pass over every map).
+ * @param[in,out] maps @p count (1 to kMaxFusedMaps) CV_32FC1 maps of @p mask's size (M in, R out).
+ * @param[in] G CV_32FC1 of the same size, set where @p mask is.
+ * @param[in] tau_g tau_G.
+ * @param[in] rows rows to fuse.
+ * @param[in] mask CV_8UC1 fusionMask() of @p maps over @p rows.
+ */
+void fuseResponseMasked(cv::Mat* const* maps, int count, const cv::Mat& G, float tau_g,
+                        const cv::Range& rows, const cv::Mat& mask);
 
 /**
  * @brief The maximum of a CV_32FC1 map and its first position in row-major order: what

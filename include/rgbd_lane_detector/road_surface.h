@@ -92,6 +92,13 @@ class RoadSurface {
                        const PlaneEstimate& plane, double band0, double growth, cv::Mat& filled,
                        const cv::Mat& col_map = cv::Mat(), const cv::Mat& row_map = cv::Mat());
 
+  /**
+   * @brief The depthBlocks() map of the points the next fit() and extendToCamera() get (null:
+   * none): their scans pass over the blocks without depth instead of reading every point. Kept
+   * by pointer; the caller keeps it equal to the points (a map of another size is not used).
+   */
+  void setDepthBlocks(const cv::Mat* blocks) { blocks_ = blocks; }
+
   /// Half width of the corridor ahead of the camera whose samples weigh more (m).
   static constexpr double kCorridorHalfWidth = 2.5;
 
@@ -141,7 +148,12 @@ class RoadSurface {
   std::vector<Sample> far_;   ///< samples beyond fit_range (valid range check)
   std::vector<float> ratios_;
   std::vector<int> fill_from_;  ///< extendToCamera(): per column, the first row to fill
-  std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays
+  /// Row @p y of the depth block map when it fits @p points, else null.
+  const uint8_t* blockRow(const cv::Mat& points, int y) const;
+
+  const cv::Mat* blocks_ = nullptr;  ///< setDepthBlocks()
+  std::vector<int> fill_open_;  ///< extendToCamera(): the columns without depth so far
+  std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays and nx x
   double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;
   uint32_t rng_ = 1;

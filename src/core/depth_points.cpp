@@ -31,11 +31,23 @@ void storePoints(DF df, hn::Mask<DF> keep, hn::Vec<DF> d, const float* ax, float
                         hn::IfThenElse(keep, d, nan), df, dst);
 }
 
+// The depth block map of a vector of N columns from x: its blocks (one when N divides
+// kDepthBlock) hold depth when any lane is kept.
+template <class DF>
+void markBlocks(DF df, hn::Mask<DF> keep, int x, int N, uint8_t* blocks) {
+  if (!blocks || hn::AllFalse(df, keep)) return;
+  if (N <= kDepthBlock && kDepthBlock % N == 0) {  // x is a multiple of N: one block
+    blocks[x / kDepthBlock] = 1;
+    return;
+  }
+  for (int b = x / kDepthBlock; b <= (x + N - 1) / kDepthBlock; ++b) blocks[b] = 1;
+}
+
 // 16-bit depth of one row (no column map): the decoder's range test as the interval [lo, hi] of
 // raw values, the decode in double rounded once, x from the table ax of float((u - cx) / fx).
 // Returns the columns done.
 int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float* ax, float ry,
-           float* dst) {
+           float* dst, uint8_t* blocks) {
   const hn::ScalableTag<int32_t> d32;
   const hn::Rebind<uint16_t, decltype(d32)> d16;
   const hn::Rebind<float, decltype(d32)> df;
@@ -51,13 +63,15 @@ int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float
     const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
     const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
     storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
+    markBlocks(df, hn::RebindMask(df, in), x, N, blocks);
   }
   return x;
 }
 
 // Float depth of one row (no column map): valid when in (0, inf) and in [lo, hi], the float
 // bounds that compare as the decoder's double ones. Returns the columns done.
-int rowF32(const float* src, int w, float lo, float hi, const float* ax, float ry, float* dst) {
+int rowF32(const float* src, int w, float lo, float hi, const float* ax, float ry, float* dst,
+           uint8_t* blocks) {
   const hn::ScalableTag<float> df;
   const int N = static_cast<int>(hn::Lanes(df));
   const auto zero = hn::Zero(df), inf = hn::Set(df, std::numeric_limits<float>::infinity());
@@ -68,6 +82,7 @@ int rowF32(const float* src, int w, float lo, float hi, const float* ax, float r
     const auto ok =
         hn::And(hn::And(hn::Gt(d, zero), hn::Lt(d, inf)), hn::And(hn::Ge(d, vlo), hn::Le(d, vhi)));
     storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
+    markBlocks(df, ok, x, N, blocks);
   }
   return x;
 }
@@ -80,10 +95,10 @@ namespace rgbd_lane_detector {
 namespace {
 
 // The scalar target: no column done by a vector (convertRows() does them all).
-int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, float*) {
+int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, float*, uint8_t*) {
   return 0;
 }
-int rowF32Scalar(const float*, int, float, float, const float*, float, float*) {
+int rowF32Scalar(const float*, int, float, float, const float*, float, float*, uint8_t*) {
   return 0;
 }
 #ifdef RLD_HAVE_HWY
@@ -135,40 +150,79 @@ void floatBounds(const DepthDecoder& dec, float& lo, float& hi) {
   }
 }
 
+// The next source row read through a column map into the cache while this one is gathered (its
+// lines are read out of order and a row at a time: the hardware prefetcher starts late).
+inline void prefetchRow(const uint8_t* p, size_t bytes) {
+  for (size_t i = 0; i < bytes; i += 64) __builtin_prefetch(p + i);
+}
+
+// One row of depthBlocks(): a block is empty when none of its floats is a number (a point is
+// three numbers or three NaN), counted by a loop the compiler vectorises.
+void blocksOfRow(const float* p, int w, uint8_t* out) {
+  for (int b = 0; b * kDepthBlock < w; ++b) {
+    const int n = 3 * (std::min(w, (b + 1) * kDepthBlock) - b * kDepthBlock);
+    const float* q = p + 3 * b * kDepthBlock;
+    int numbers = 0;
+    for (int i = 0; i < n; ++i) numbers += q[i] == q[i];
+    out[b] = numbers > 0;
+  }
+}
+
+void allocateBlocks(const cv::Size& size, cv::Mat& blocks) {
+  const cv::Size s((size.width + kDepthBlock - 1) / kDepthBlock, size.height);
+  if (blocks.size() != s || blocks.type() != CV_8UC1) {
+    blocks.create(s, CV_8UC1);
+    blocks.setTo(0);
+  }
+}
+
 template <typename T>
 void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrinsics& K, int r0,
-                 int r1, cv::Mat& points, const int* col_map, const int* row_map) {
+                 int r1, cv::Mat& points, const int* col_map, const int* row_map,
+                 cv::Mat* blocks) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const double inv_fx = 1.0 / K.fx;
   const double inv_fy = 1.0 / K.fy;
   const int w = points.cols;
-  // the vector rows: the x factors of the columns and the valid raw range, once per call (the
-  // table is per thread and only grows)
+  // the vector rows: the x factors of the columns (of their source columns when resampled) and
+  // the valid raw range, once per call; a resampled row is first gathered into a row of the
+  // processing width (the tables are per thread and only grow)
   thread_local std::vector<float> ax;
+  thread_local std::vector<T> gathered;
   const bool u16 = std::is_same<T, uint16_t>::value;
   int raw_lo = 1, raw_hi = 0;
   float f_lo = 0.f, f_hi = 0.f;
-  const bool vec = !col_map && (!u16 || decode.scale > 0.0);
+  const bool vec = !u16 || decode.scale > 0.0;
   if (vec) {
     if (u16)
       validRaw(decode, raw_lo, raw_hi);
     else
       floatBounds(decode, f_lo, f_hi);
     if (static_cast<int>(ax.size()) < w) ax.resize(w);
-    for (int x = 0; x < w; ++x) ax[x] = static_cast<float>((x - K.cx) * inv_fx);
+    for (int x = 0; x < w; ++x)
+      ax[x] = static_cast<float>(((col_map ? col_map[x] : x) - K.cx) * inv_fx);
+    if (col_map && static_cast<int>(gathered.size()) < w) gathered.resize(w);
   }
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;
     const T* src = depth.ptr<T>(sy);
     float* dst = points.ptr<float>(y);
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
+    const T* row = src;  // the row's depth by processing column
+    if (vec && col_map) {
+      if (y + 1 < r1) prefetchRow(depth.ptr<uint8_t>(row_map[y + 1]), depth.cols * sizeof(T));
+      for (int x = 0; x < w; ++x) gathered[x] = src[col_map[x]];
+      row = gathered.data();
+    }
+    uint8_t* bl = blocks ? blocks->ptr<uint8_t>(y) : nullptr;  // marked as the row is made
+    if (bl) std::memset(bl, 0, blocks->cols);
     int x = 0;
     if (vec && u16)
-      x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(src), w, decode.scale, raw_lo,
-                               raw_hi, ax.data(), ry, dst);
+      x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(row), w, decode.scale, raw_lo,
+                               raw_hi, ax.data(), ry, dst, bl);
     else if (vec)
-      x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(src), w, f_lo, f_hi, ax.data(), ry,
-                               dst);
+      x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(row), w, f_lo, f_hi, ax.data(), ry,
+                               dst, bl);
     for (; x < w; ++x) {
       const int sx = col_map ? col_map[x] : x;
       const float d = decode(src[sx]);
@@ -180,6 +234,7 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
       q[0] = static_cast<float>((sx - K.cx) * inv_fx) * d;
       q[1] = ry * d;
       q[2] = d;
+      if (bl) bl[x / kDepthBlock] = 1;
     }
   }
 }
@@ -188,7 +243,7 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
 
 bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intrinsics& K,
                    const cv::Range& rows, cv::Mat& points, const cv::Mat& col_map,
-                   const cv::Mat& row_map) {
+                   const cv::Mat& row_map, cv::Mat* blocks) {
   if (depth.type() != CV_16UC1 && depth.type() != CV_32FC1) return false;
   const cv::Size size(col_map.empty() ? depth.cols : static_cast<int>(col_map.total()),
                       row_map.empty() ? depth.rows : static_cast<int>(row_map.total()));
@@ -197,11 +252,19 @@ bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intr
   const int r1 = std::min(rows.end, size.height);
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
   const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
+  if (blocks) allocateBlocks(size, *blocks);
   if (depth.type() == CV_16UC1)
-    convertRows<uint16_t>(depth, decoder, K, r0, r1, points, cm, rm);
+    convertRows<uint16_t>(depth, decoder, K, r0, r1, points, cm, rm, blocks);
   else
-    convertRows<float>(depth, decoder, K, r0, r1, points, cm, rm);
+    convertRows<float>(depth, decoder, K, r0, r1, points, cm, rm, blocks);
   return true;
+}
+
+void depthBlocks(const cv::Mat& points, const cv::Range& rows, cv::Mat& blocks) {
+  CV_Assert(points.type() == CV_32FC3);
+  allocateBlocks(points.size(), blocks);
+  for (int y = std::max(rows.start, 0); y < std::min(rows.end, points.rows); ++y)
+    blocksOfRow(points.ptr<float>(y), points.cols, blocks.ptr<uint8_t>(y));
 }
 
 void fillDepthHoles(cv::Mat& points, const cv::Range& rows, int max_gap) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "simd.h"
 
@@ -119,40 +120,89 @@ HWY_EXPORT(convertRgba);
 HWY_EXPORT(convertMono);
 #endif
 
+namespace {
+
+// One row: the vector kernel of the format (one per format: their layouts are compile-time),
+// then the rest of the row.
+void convertAnyRow(PixelFormat format, const uint8_t* src, uint8_t* dst, int w, int tau) {
+  using F = PixelFormat;
+  switch (format) {
+    case PixelFormat::kBgr8:
+      convertRow<F::kBgr8>(src, dst, RLD_DISPATCH(convertBgr)(src, dst, w, tau), w, tau);
+      break;
+    case PixelFormat::kRgb8:
+      convertRow<F::kRgb8>(src, dst, RLD_DISPATCH(convertRgb)(src, dst, w, tau), w, tau);
+      break;
+    case PixelFormat::kBgra8:
+      convertRow<F::kBgra8>(src, dst, RLD_DISPATCH(convertBgra)(src, dst, w, tau), w, tau);
+      break;
+    case PixelFormat::kRgba8:
+      convertRow<F::kRgba8>(src, dst, RLD_DISPATCH(convertRgba)(src, dst, w, tau), w, tau);
+      break;
+    case PixelFormat::kMono8:
+      convertRow<F::kMono8>(src, dst, RLD_DISPATCH(convertMono)(src, dst, w, tau), w, tau);
+      break;
+  }
+}
+
+// The output's rows: allocated (and zeroed: rows never converted read as 0) on a new size.
+cv::Range outputRows(const cv::Size& size, const cv::Range& rows, cv::Mat& out) {
+  if (out.size() != size || out.type() != CV_8UC1) {
+    out.create(size, CV_8UC1);
+    out = cv::Scalar(0);
+  }
+  return cv::Range(std::max(rows.start, 0), std::min(rows.end, size.height));
+}
+
+// tau_c <= 0 keeps everything; above 255 nothing
+int clampTau(int tau_c) {
+  return std::min(std::max(tau_c, 0), 256);
+}
+
+}  // namespace
+
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out) {
-  if (out.size() != colour.size() || out.type() != CV_8UC1) {
-    out.create(colour.size(), CV_8UC1);
-    out = cv::Scalar(0);  // rows never converted read as 0 (once, on allocation)
-  }
-  const int r0 = std::max(rows.start, 0);
-  const int r1 = std::min(rows.end, colour.rows);
-  const int w = colour.cols;
-  // tau_c <= 0 keeps everything; above 255 nothing
-  const int tau = std::min(std::max(tau_c, 0), 256);
-  for (int y = r0; y < r1; ++y) {
-    const uint8_t* src = colour.ptr<uint8_t>(y);
-    uint8_t* dst = out.ptr<uint8_t>(y);
-    // the vector kernel of the format (one per format: their layouts are compile-time), then
-    // the rest of the row
-    using F = PixelFormat;
-    switch (format) {
-      case PixelFormat::kBgr8:
-        convertRow<F::kBgr8>(src, dst, RLD_DISPATCH(convertBgr)(src, dst, w, tau), w, tau);
-        break;
-      case PixelFormat::kRgb8:
-        convertRow<F::kRgb8>(src, dst, RLD_DISPATCH(convertRgb)(src, dst, w, tau), w, tau);
-        break;
-      case PixelFormat::kBgra8:
-        convertRow<F::kBgra8>(src, dst, RLD_DISPATCH(convertBgra)(src, dst, w, tau), w, tau);
-        break;
-      case PixelFormat::kRgba8:
-        convertRow<F::kRgba8>(src, dst, RLD_DISPATCH(convertRgba)(src, dst, w, tau), w, tau);
-        break;
-      case PixelFormat::kMono8:
-        convertRow<F::kMono8>(src, dst, RLD_DISPATCH(convertMono)(src, dst, w, tau), w, tau);
-        break;
+  const cv::Range r = outputRows(colour.size(), rows, out);
+  const int tau = clampTau(tau_c);
+  for (int y = r.start; y < r.end; ++y)
+    convertAnyRow(format, colour.ptr<uint8_t>(y), out.ptr<uint8_t>(y), colour.cols, tau);
+}
+
+void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
+                cv::Mat& out, const cv::Mat& col_map, const cv::Mat& row_map) {
+  const int w = static_cast<int>(col_map.total());
+  const cv::Range r = outputRows(cv::Size(w, static_cast<int>(row_map.total())), rows, out);
+  const int tau = clampTau(tau_c);
+  const int* cm = col_map.ptr<int>();
+  const int* rm = row_map.ptr<int>();
+  const int e = static_cast<int>(colour.elemSize());
+  // each row's pixels gathered into a row of the output's width, then converted (the buffer is
+  // per thread and only grows); 3 bytes a pixel as one 4-byte copy that the next pixel
+  // overwrites, up to the first column whose 4th byte would be read past the source row
+  thread_local std::vector<uint8_t> gathered;
+  int w4 = 0;
+  while (w4 < w && cm[w4] + 1 < colour.cols) ++w4;
+  const size_t row_bytes = colour.cols * colour.elemSize();
+  const size_t bytes = static_cast<size_t>(w) * e + 1;
+  if (gathered.size() < bytes) gathered.resize(bytes);
+  for (int y = r.start; y < r.end; ++y) {
+    const uint8_t* src = colour.ptr<uint8_t>(rm[y]);
+    uint8_t* g = gathered.data();
+    if (y + 1 < r.end) {  // the next source row into the cache while this one is gathered
+      const uint8_t* next = colour.ptr<uint8_t>(rm[y + 1]);
+      for (size_t i = 0; i < row_bytes; i += 64) __builtin_prefetch(next + i);
     }
+    if (e == 3) {
+      int x = 0;
+      for (; x < w4; ++x) std::memcpy(g + 3 * x, src + 3 * cm[x], 4);
+      for (; x < w; ++x) std::memcpy(g + 3 * x, src + 3 * cm[x], 3);
+    } else if (e == 4) {
+      for (int x = 0; x < w; ++x) std::memcpy(g + 4 * x, src + 4 * cm[x], 4);
+    } else {
+      for (int x = 0; x < w; ++x) std::memcpy(g + x * e, src + cm[x] * e, e);
+    }
+    convertAnyRow(format, g, out.ptr<uint8_t>(y), w, tau);
   }
 }
 

@@ -187,10 +187,9 @@ void LaneDetector::preprocess(const Frame& frame) {
         std::min(input_size_.height, static_cast<int>(std::ceil(roi_rows_.end * sy))));
   }
   if (scaled && params_.classify_boundaries) {
-    // the processing grey is the input's grey resampled (grey is per pixel: the same values as
-    // the grey of the resampled colour), so the colour itself is never resampled
-    halfBinary(frame.colour, frame.format, 0, grey_input_rows_, grey_input_);
-    remapNearest(grey_input_, col_map_, row_map_, grey_, roi_rows_);
+    // the processing grey straight from the input's pixels (the colour is never resampled; the
+    // classifier computes the input's grey where it reads it)
+    halfBinary(frame.colour, frame.format, 0, roi_rows_, grey_, col_map_, row_map_);
     if (params_.adaptive_tau_c)
       applyRowThreshold(grey_, half_binary_, roi_rows_, params_.tau_c_offset, row_histogram_,
                         params_.paint_contrast);
@@ -224,8 +223,13 @@ void LaneDetector::computePoints(const Frame& frame) {
   decoder.scale = frame.depth_scale;
   decoder.min_depth = params_.min_depth;
   decoder.max_depth = params_.max_depth;
-  depthToPoints(frame.depth, decoder, proc_K_, point_rows, points_, col_map_, row_map_);
-  if (params_.fill_depth_holes > 0) fillDepthHoles(points_, point_rows, params_.fill_depth_holes);
+  depthToPoints(frame.depth, decoder, proc_K_, point_rows, points_, col_map_, row_map_,
+                &depth_blocks_);
+  if (params_.fill_depth_holes > 0) {
+    fillDepthHoles(points_, point_rows, params_.fill_depth_holes);
+    depthBlocks(points_, point_rows, depth_blocks_);
+  }
+  road_surface_.setDepthBlocks(&depth_blocks_);  // the fit and the extension pass empty blocks
 }
 
 void LaneDetector::computeResponses() {
@@ -246,11 +250,12 @@ void LaneDetector::computeResponses() {
   } else {
     matchTemplates();
   }
-  if (params_.plane_gate > 0.0 && fitter_.previousPlane().valid) gateByPlane();
+  const bool gate = params_.plane_gate > 0.0 && fitter_.previousPlane().valid;
+  if (gate && full_geometric_) gateByPlane();
   if (!full_geometric_) {
     // R needs G only where M >= tau_G (about 1% of the pixels of a road): G there only, which
-    // saves most of the normals stage
-    maskFusion();
+    // saves most of the normals stage (the gate in the same pass over the maps)
+    maskFusion(gate);
     computeGeometric(&fusion_mask_);
   }
   fuseResponses();
@@ -291,9 +296,16 @@ void LaneDetector::gateByPlane() {
                    acquisition_response_right_);
 }
 
-void LaneDetector::maskFusion() {
+void LaneDetector::maskFusion(bool gate) {
   const StageTimer timer(timings_.normals);
   const float tau = static_cast<float>(params_.tau_g);
+  if (gate) {  // gateByPlane()'s gate first
+    const Params& p = params_;
+    const float low = static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
+    gatedFusionMask(points_, fitter_.previousPlane(), static_cast<float>(p.plane_gate), low,
+                    matchMaps(), acquiring() ? 4 : 2, tau, roi_rows_, fusion_mask_);
+    return;
+  }
   if (acquiring())
     fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
                 &acquisition_response_right_},
@@ -306,6 +318,10 @@ void LaneDetector::fuseResponses() {
   // 5. R
   const StageTimer timer(timings_.response);
   const float tau = static_cast<float>(params_.tau_g);
+  if (!full_geometric_) {  // G where the fusion mask is: R = M elsewhere
+    fuseResponseMasked(matchMaps(), acquiring() ? 4 : 2, geometric_, tau, roi_rows_, fusion_mask_);
+    return;
+  }
   fuseResponse(response_left_, geometric_, tau, roi_rows_, response_left_);
   fuseResponse(response_right_, geometric_, tau, roi_rows_, response_right_);
   if (acquiring()) {
@@ -395,7 +411,7 @@ const CandidateFrame& LaneDetector::candidateFrame(const Frame& frame) {
   CandidateFrame& f = candidate_frame_;
   f.colour = &frame.colour;
   f.format = frame.format;
-  f.grey = col_map_.empty() ? &grey_ : &grey_input_;
+  f.grey = col_map_.empty() ? &grey_ : nullptr;  // resampled: from the colour
   f.grey_rows = grey_input_rows_;
   f.K = proc_K_;
   f.input_size = input_size_;

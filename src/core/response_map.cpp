@@ -5,6 +5,7 @@
 #include "rgbd_lane_detector/response_map.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #include "simd.h"
@@ -184,6 +185,88 @@ void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const c
       for (i = 0; i < count; ++i) any = any || row[i][x] >= tau_g;
       out[x] = any ? 255 : 0;
     }
+  }
+}
+
+void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float max_off, float tau,
+                     cv::Mat* const* maps, int count, float tau_g, const cv::Range& rows,
+                     cv::Mat& mask) {
+  CV_Assert(count % 2 == 0 && count > 0 && count <= kMaxFusedMaps);
+  const cv::Size size = maps[0]->size();
+  for (int i = 0; i < count; ++i) CV_Assert(maps[i]->type() == CV_32FC1 && maps[i]->size() == size);
+  CV_Assert(points.type() == CV_32FC3 && points.size() == size);
+  if (mask.size() != size || mask.type() != CV_8UC1) {
+    mask.create(size, CV_8UC1);
+    mask.setTo(0);
+  }
+  // (applyPlaneGate()'s expression)
+  const float nx = static_cast<float>(plane.normal.x()), ny = static_cast<float>(plane.normal.y()),
+              nz = static_cast<float>(plane.normal.z()), pd = static_cast<float>(plane.distance);
+  const int w = size.width;
+  const float low = std::min(tau, tau_g);
+  float* row[kMaxFusedMaps];
+  const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, size.height);
+  for (int y = r0; y < r1; ++y) {
+    for (int i = 0; i < count; ++i) row[i] = maps[i]->ptr<float>(y);
+    const float* q = points.ptr<float>(y);
+    uint8_t* out = mask.ptr<uint8_t>(y);
+    // 255 where any map is at min(tau, tau_g) or above: only there can the gate or the mask act
+    int x = RLD_DISPATCH(maskRow)(row, count, low, w, out);
+    for (; x < w; ++x) {
+      bool any = false;
+      for (int i = 0; i < count; ++i) any = any || row[i][x] >= low;
+      out[x] = any ? 255 : 0;
+    }
+    auto gateAndMask = [&](int j) {
+      const float* p = q + 3 * j;
+      for (int k = 0; k < count; k += 2) {
+        float& ml = row[k][j];
+        float& mr = row[k + 1][j];
+        if (ml < tau && mr < tau) continue;
+        if (std::fabs(nx * p[0] + ny * p[1] + nz * p[2] + pd) > max_off) ml = mr = 0.f;
+      }
+      bool any = false;
+      for (int k = 0; k < count; ++k) any = any || row[k][j] >= tau_g;
+      out[j] = any ? 255 : 0;
+    };
+    for (x = 0; x + 8 <= w; x += 8) {  // 8 mask bytes at a time: most are 0
+      uint64_t word;
+      std::memcpy(&word, out + x, sizeof(word));
+      if (word == 0) continue;
+      for (int j = x; j < x + 8; ++j)
+        if (out[j]) gateAndMask(j);
+    }
+    for (; x < w; ++x)
+      if (out[x]) gateAndMask(x);
+  }
+}
+
+void fuseResponseMasked(cv::Mat* const* maps, int count, const cv::Mat& G, float tau_g,
+                        const cv::Range& rows, const cv::Mat& mask) {
+  CV_Assert(count > 0 && count <= kMaxFusedMaps && mask.type() == CV_8UC1 &&
+            G.type() == CV_32FC1 && G.size() == mask.size());
+  for (int i = 0; i < count; ++i)
+    CV_Assert(maps[i]->type() == CV_32FC1 && maps[i]->size() == mask.size());
+  const int w = mask.cols;
+  float* row[kMaxFusedMaps];
+  const int r0 = std::max(rows.start, 0), r1 = std::min(rows.end, mask.rows);
+  for (int y = r0; y < r1; ++y) {
+    const uint8_t* mk = mask.ptr<uint8_t>(y);
+    const float* g = G.ptr<float>(y);
+    for (int i = 0; i < count; ++i) row[i] = maps[i]->ptr<float>(y);
+    auto fuse = [&](int x) {
+      for (int k = 0; k < count; ++k) row[k][x] = fusedValue(row[k][x], g[x], tau_g);
+    };
+    int x = 0;
+    for (; x + 8 <= w; x += 8) {  // 8 mask bytes at a time: most are 0
+      uint64_t word;
+      std::memcpy(&word, mk + x, sizeof(word));
+      if (word == 0) continue;
+      for (int j = x; j < x + 8; ++j)
+        if (mk[j]) fuse(j);
+    }
+    for (; x < w; ++x)
+      if (mk[x]) fuse(x);
   }
 }
 

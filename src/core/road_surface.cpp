@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/geometry.h"
 
 namespace rgbd_lane_detector {
@@ -42,6 +43,13 @@ double tukeyWeight(double r, double c) {
 }
 
 // Orient n . p + d = 0 so that the camera (origin) is on the positive side.
+// No number among the n floats at p.
+bool noNumber(const float* p, int n) {
+  int numbers = 0;
+  for (int i = 0; i < n; ++i) numbers += p[i] == p[i];
+  return numbers == 0;
+}
+
 bool orient(Eigen::Vector3d& n, double& d) {
   if (!n.allFinite() || !std::isfinite(d) || std::fabs(d) < 1e-6) return false;
   if (d < 0.0) {
@@ -52,6 +60,13 @@ bool orient(Eigen::Vector3d& n, double& d) {
 }
 
 }  // namespace
+
+const uint8_t* RoadSurface::blockRow(const cv::Mat& points, int y) const {
+  if (!blocks_ || blocks_->type() != CV_8UC1 || blocks_->rows != points.rows ||
+      blocks_->cols != (points.cols + kDepthBlock - 1) / kDepthBlock)
+    return nullptr;
+  return blocks_->ptr<uint8_t>(y);
+}
 
 void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
                           const RoadSurfaceSettings& s) {
@@ -89,7 +104,9 @@ int RoadSurface::nearGridCount(const cv::Mat& points, const cv::Range& rows,
   int count = 0;
   for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
     const float* row = points.ptr<float>(y);
+    const uint8_t* blocks = blockRow(points, y);
     for (int x = stride / 2; x < points.cols; x += stride) {
+      if (blocks && !blocks[x / kDepthBlock]) continue;  // no depth there
       const float* q = row + 3 * x;
       // collectGrid()'s sample() within fit_range
       if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
@@ -125,9 +142,10 @@ void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
     const float* row = points.ptr<float>(y);
     // every stride-th pixel of every stride-th row on a grid (the fit)
     const bool grid_row = (y - rows.start) % stride == stride / 2;
+    const uint8_t* blocks = blockRow(points, y);  // (blocks without depth give no sample)
     if (grid_row) {
       for (int x = stride / 2; x < points.cols; x += stride) {
-        if (!sample(row + 3 * x, smp)) continue;
+        if ((blocks && !blocks[x / kDepthBlock]) || !sample(row + 3 * x, smp)) continue;
         (smp.p.z() <= fit_range ? near_ : far_).push_back(smp);
       }
     }
@@ -136,8 +154,22 @@ void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
     const float zc = row[3 * centre + 2];
     const bool far_row = !(zc <= 0.9f * fit_range);  // far, or no depth at the centre
     if (!far_row) continue;
+    // (the grid's next column counted up from each block's first, not found per pixel)
+    auto nextGrid = [stride](int x) {
+      return x > stride / 2 ? stride / 2 + (x - stride / 2 + stride - 1) / stride * stride
+                            : stride / 2;
+    };
+    int grid_x = nextGrid(far_cols.start);
     for (int x = far_cols.start; x < far_cols.end; ++x) {
-      if (grid_row && x % stride == stride / 2) continue;  // taken on the grid
+      if (blocks && x % kDepthBlock == 0 && !blocks[x / kDepthBlock]) {  // a block without depth
+        x += kDepthBlock - 1;
+        grid_x = nextGrid(x + 1);
+        continue;
+      }
+      if (grid_row && x == grid_x) {  // taken on the grid
+        grid_x += stride;
+        continue;
+      }
       if (!sample(row + 3 * x, smp) || smp.weight != kCorridorWeight) continue;
       if (smp.p.z() > fit_range)
         far_.push_back(smp);
@@ -410,16 +442,29 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
   const int* cm = col_map.empty() ? nullptr : col_map.ptr<int>();
   const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
   // the nearest (lowest) row with depth of every column, rows read in memory order (a column
-  // walk strides a whole row per pixel: on sparse LiDAR depth it cost 10 ms at 1600x900)
+  // walk strides a whole row per pixel: on sparse LiDAR depth it cost 10 ms at 1600x900), each
+  // at the columns still open only; a row without a number at all (by the depth block map, else
+  // by a test the compiler vectorises) and blocks without depth are passed over
   fill_from_.assign(w, -1);
+  fill_open_.resize(w);
+  for (int x = 0; x < w; ++x) fill_open_[x] = x;
   int open = w;
+  const int nb = (w + kDepthBlock - 1) / kDepthBlock;
   for (int y = r1 - 1; y >= r0 && open > 0; --y) {
-    const cv::Vec3f* row = points.ptr<cv::Vec3f>(y);
-    for (int x = 0; x < w; ++x)
-      if (fill_from_[x] < 0 && !std::isnan(row[x][2])) {
+    const float* row = points.ptr<float>(y);
+    const uint8_t* blocks = blockRow(points, y);
+    if (blocks ? std::none_of(blocks, blocks + nb, [](uint8_t b) { return b != 0; })
+               : open > w / 4 && noNumber(row, 3 * w))
+      continue;
+    int k = 0;
+    for (int i = 0; i < open; ++i) {
+      const int x = fill_open_[i];
+      if ((blocks && !blocks[x / kDepthBlock]) || std::isnan(row[3 * x + 2]))
+        fill_open_[k++] = x;
+      else
         fill_from_[x] = y;
-        --open;
-      }
+    }
+    open = k;
   }
   // the first row to fill: below a nearest depth on the road; none without depth, below
   // something else (a car, a wall) or with nothing missing below it
@@ -437,22 +482,26 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
   }
   // each pixel's ray K.ray(u, v) from its column's and its row's part, and rayPlaneDepth()
   // written out: the same operations in the same order (n . ray is (nx rx + ny ry) + nz 1)
-  fill_rx_.resize(w);
-  for (int x = 0; x < w; ++x) fill_rx_[x] = K.ray(cm ? cm[x] : x, 0.0).x();
+  // (the products nx rx per column and ny ry per row, once)
   const double nx = plane.normal.x(), ny = plane.normal.y(), nz = plane.normal.z();
+  fill_rx_.resize(2 * w);
+  for (int x = 0; x < w; ++x) {
+    fill_rx_[2 * x] = K.ray(cm ? cm[x] : x, 0.0).x();
+    fill_rx_[2 * x + 1] = nx * fill_rx_[2 * x];
+  }
   int count = 0;
   for (int v = first; v < r1; ++v) {
-    const double ry = K.ray(0.0, rm ? rm[v] : v).y();
+    const double ry = K.ray(0.0, rm ? rm[v] : v).y(), ny_ry = ny * ry;
     cv::Vec3f* row = points.ptr<cv::Vec3f>(v);
     uint8_t* mark = filled.ptr<uint8_t>(v);
     for (int x = 0; x < w; ++x) {
       if (v < fill_from_[x]) continue;
-      const double den = (nx * fill_rx_[x] + ny * ry) + nz * 1.0;
+      const double den = (fill_rx_[2 * x + 1] + ny_ry) + nz * 1.0;
       if (!(den < -1e-9)) continue;  // the ray misses the road plane
+      // (no depth here: the column's nearest depth is above; the point is not read)
       cv::Vec3f& p = row[x];
-      if (!std::isnan(p[2])) continue;
       const double t = -plane.distance / den;
-      p = cv::Vec3f(static_cast<float>(fill_rx_[x] * t), static_cast<float>(ry * t),
+      p = cv::Vec3f(static_cast<float>(fill_rx_[2 * x] * t), static_cast<float>(ry * t),
                     static_cast<float>(t));
       mark[x] = 255;
       ++count;

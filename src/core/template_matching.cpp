@@ -406,6 +406,16 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
       const int slot = (y + dy + ring_) % ring_;
       return stair ? stair_[table].ptr<uint32_t>(slot) + margin_ : integral_.ptr<uint32_t>(slot);
     };
+    // A window without a pixel above 0 (most of a road in the half-binary image) scores 0 what
+    // ever its correlation (scorePixel(): a flat window): blocks of such windows, found by the
+    // integral of their union, are not accumulated (their sums keep any earlier value)
+    const uint32_t* top = integral_.ptr<uint32_t>(y % ring_);
+    const uint32_t* bottom = integral_.ptr<uint32_t>((y + s) % ring_);
+    auto empty = [&](int x0, int x1) {  // windows x0 .. x1 - 1: columns x0 .. x1 - 2 + s
+      const int e = x1 - 1 + s;
+      return (bottom[e] - bottom[x0]) - (top[e] - top[x0]) == 0u;
+    };
+    constexpr int kBlock = 16;
     for (int k = 0; k < 2; ++k) {
       const Compiled& c = compiled_[k];
       const int pairs = static_cast<int>(c.plus.size());
@@ -413,7 +423,26 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
         plus_ptr_[i] = row(c.plus[i].stair, c.stair, c.plus[i].dy) + c.plus[i].dx;
         minus_ptr_[i] = row(c.minus[i].stair, c.stair, c.minus[i].dy) + c.minus[i].dx;
       }
-      accumulate(acc_[k].data(), plus_ptr_.data(), minus_ptr_.data(), pairs, ow);
+      constexpr int kMaxPairs = 4 + 4 * kMaxSlopeDenominator;  // compile()'s most
+      if (pairs > kMaxPairs) {
+        accumulate(acc_[k].data(), plus_ptr_.data(), minus_ptr_.data(), pairs, ow);
+        continue;
+      }
+      for (int x0 = 0; x0 < ow;) {
+        int x1 = x0;  // a run of blocks with pixels
+        while (x1 < ow && !empty(x1, std::min(ow, x1 + kBlock))) x1 = std::min(ow, x1 + kBlock);
+        if (x1 > x0) {
+          const uint32_t* plus[kMaxPairs];
+          const uint32_t* minus[kMaxPairs];
+          for (int i = 0; i < pairs; ++i) {
+            plus[i] = plus_ptr_[i] + x0;
+            minus[i] = minus_ptr_[i] + x0;
+          }
+          accumulate(acc_[k].data() + x0, plus, minus, pairs, x1 - x0);
+        }
+        while (x1 < ow && empty(x1, std::min(ow, x1 + kBlock))) x1 = std::min(ow, x1 + kBlock);
+        x0 = x1;
+      }
     }
     ScoreRow sr;
     sr.acc[0] = acc_[0].data();

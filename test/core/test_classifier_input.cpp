@@ -109,5 +109,30 @@ TEST(ClassifierInput, ImageRowReadsEitherChannelOrder) {
   EXPECT_FALSE(ImageRow(in, 3).valid());
 }
 
+// Without a grey image (the detector at a processing scale) the grey values are greyValue() of
+// the colour: what the input's grey image would hold, in either channel order and for mono.
+TEST(ClassifierInput, ImageRowWithoutGreyComputesItFromTheColour) {
+  cv::Mat colour(3, 5, CV_8UC3), mono(3, 5, CV_8UC1);
+  cv::randu(colour, 0, 256);
+  cv::randu(mono, 0, 256);
+  ClassifierInput in;
+  in.grey_rows = cv::Range(0, 3);
+  for (PixelFormat f : {PixelFormat::kBgr8, PixelFormat::kRgb8}) {
+    in.colour = &colour;
+    in.format = f;
+    const bool bgr = f == PixelFormat::kBgr8;
+    const ImageRow row(in, 1);
+    ASSERT_TRUE(row.valid());
+    for (int u = 0; u < 5; ++u) {
+      const cv::Vec3b c = colour.at<cv::Vec3b>(1, u);
+      EXPECT_EQ(row.grey(u), greyValue(c[bgr ? 2 : 0], c[1], c[bgr ? 0 : 2]));
+    }
+  }
+  in.colour = &mono;
+  in.format = PixelFormat::kMono8;
+  EXPECT_EQ(ImageRow(in, 2).grey(3), mono.at<uint8_t>(2, 3));
+  EXPECT_FALSE(ImageRow(in, 3).valid());  // outside the rows
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector

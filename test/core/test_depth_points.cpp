@@ -1,10 +1,12 @@
 // Depth to organised 3D points (Eq. 1), invalid depth handling and hole filling.
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "rgbd_lane_detector/depth_points.h"
+#include "simd.h"  // private: targets
 
 namespace rgbd_lane_detector {
 namespace {
@@ -146,6 +148,64 @@ TEST(DepthPoints, EveryPixelIsTheScalarDefinitionBitForBit) {
         EXPECT_EQ(q[2], d);
       }
   }
+}
+
+// Resampled through index maps (rows gathered, then the vector kernels) on every target: the
+// scalar definition at the source pixel, bit for bit; and the depth block map: a block is empty
+// exactly when none of its pixels has depth (depthBlocks() of the points says the same).
+TEST(DepthPoints, ResampledRowsAndTheDepthBlockMap) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::RNG rng(5);
+  cv::Mat mm(9, 83, CV_16UC1, cv::Scalar(0)), metres(9, 83, CV_32FC1, cv::Scalar(nan));
+  for (int i = 0; i < 120; ++i) {  // sparse, as a LiDAR: most pixels without depth
+    const int v = rng.uniform(0, 9), u = rng.uniform(0, 83);
+    mm.at<uint16_t>(v, u) = static_cast<uint16_t>(rng.uniform(1, 65536));
+    metres.at<float>(v, u) = static_cast<float>(rng.uniform(-1.0, 150.0));
+  }
+  cv::Mat col_map(1, 50, CV_32SC1), row_map(1, 6, CV_32SC1);
+  for (int x = 0; x < 50; ++x)
+    col_map.at<int>(x) = std::min(82, static_cast<int>((x + 0.5) * 83 / 50));
+  for (int y = 0; y < 6; ++y) row_map.at<int>(y) = std::min(8, static_cast<int>((y + 0.5) * 9 / 6));
+  DepthDecoder dec;
+  dec.scale = 0.0013;
+  dec.min_depth = 0.2;
+  dec.max_depth = 80.0;
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (const cv::Mat& depth : {mm, metres}) {
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", type " << depth.type());
+      cv::Mat p, blocks, again;
+      ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 6), p, col_map, row_map, &blocks));
+      ASSERT_EQ(blocks.size(), cv::Size((50 + kDepthBlock - 1) / kDepthBlock, 6));
+      int empty = 0;
+      for (int y = 0; y < 6; ++y) {
+        const int v = row_map.at<int>(y);
+        std::vector<bool> any(blocks.cols, false);
+        for (int x = 0; x < 50; ++x) {
+          const int u = col_map.at<int>(x);
+          const float d = depth.type() == CV_16UC1 ? dec(depth.at<uint16_t>(v, u))
+                                                   : dec(depth.at<float>(v, u));
+          const cv::Vec3f q = p.at<cv::Vec3f>(y, x);
+          if (std::isnan(d)) {
+            EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2]));
+            continue;
+          }
+          any[x / kDepthBlock] = true;
+          EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
+          EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d);
+          EXPECT_EQ(q[2], d);
+        }
+        for (int b = 0; b < blocks.cols; ++b) {
+          EXPECT_EQ(blocks.at<uint8_t>(y, b), any[b] ? 1 : 0) << y << " " << b;
+          empty += !any[b];
+        }
+      }
+      EXPECT_GT(empty, 0);
+      depthBlocks(p, cv::Range(0, 6), again);
+      EXPECT_EQ(cv::countNonZero(again != blocks), 0);
+    }
+  }
+  simd::forceTarget(simd::kBest);
 }
 
 }  // namespace

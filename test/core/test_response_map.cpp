@@ -1,9 +1,11 @@
 // Geometric map G (Eq. 2, both depth terms) and fused response R (Eq. 3), hand-computed.
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include <gtest/gtest.h>
 
+#include "rgbd_lane_detector/pixel_kernels.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "simd.h"  // private: targets
 
@@ -111,6 +113,75 @@ TEST(ResponseMap, FusionMaskIsAnyMapAtTauOrAbove) {
         }
       EXPECT_EQ(wrong, 0);
       EXPECT_GT(set, 0);
+    }
+  }
+  simd::forceTarget(simd::kBest);
+}
+
+// The one-pass forms the detector runs: gatedFusionMask() gives the maps and the mask of
+// applyPlaneGate() on each pair then fusionMask(), and fuseResponseMasked() the maps of
+// fuseResponse(), bit for bit, on every target, for 2 and 4 maps.
+TEST(ResponseMap, OnePassGateMaskAndFusionAreTheSeparatePasses) {
+  const cv::Size size(45, 11);
+  const float tau = 0.3f, tau_g = 0.5f, max_off = 0.2f;
+  cv::RNG rng(12);
+  cv::Mat maps[kMaxFusedMaps], G(size, CV_32FC1), points(size, CV_32FC3);
+  for (cv::Mat& m : maps) {
+    m.create(size, CV_32FC1);
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x) {
+        const int r = rng.uniform(0, 12);
+        m.at<float>(y, x) = r == 0 ? tau : r == 1 ? tau_g : r == 2 ? 0.9f : r == 3 ? 0.4f : 0.f;
+      }
+  }
+  rng.fill(G, cv::RNG::UNIFORM, 0.0, 0.6);
+  PlaneEstimate plane;
+  plane.valid = true;
+  plane.normal = Eigen::Vector3d(0.0, -0.995, 0.0998).normalized();
+  plane.distance = 1.5;
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const float z = static_cast<float>(rng.uniform(2.0, 30.0));
+      const float off = static_cast<float>(rng.uniform(-0.5, 0.5));  // off the plane by up to 0.5 m
+      cv::Vec3f& p = points.at<cv::Vec3f>(y, x);
+      p = cv::Vec3f(static_cast<float>(rng.uniform(-5.0, 5.0)), 0.f, z);
+      // y on the plane (n . p + d = 0), then moved off it
+      p[1] = static_cast<float>(-(plane.normal.x() * p[0] + plane.normal.z() * z + plane.distance) /
+                                plane.normal.y()) + off;
+      if (rng.uniform(0, 8) == 0) p = cv::Vec3f(kNaN, kNaN, kNaN);
+    }
+  const cv::Range rows(1, 10);
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (int count : {2, 4}) {
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", " << count << " maps");
+      cv::Mat a[kMaxFusedMaps], b[kMaxFusedMaps];
+      cv::Mat* pa[kMaxFusedMaps];
+      for (int i = 0; i < count; ++i) {
+        a[i] = maps[i].clone();
+        b[i] = maps[i].clone();
+        pa[i] = &a[i];
+      }
+      cv::Mat mask_a, mask_b;
+      gatedFusionMask(points, plane, max_off, tau, pa, count, tau_g, rows, mask_a);
+      for (int i = 0; i < count; i += 2)
+        applyPlaneGate(points, rows, plane, max_off, tau, b[i], b[i + 1]);
+      if (count == 2)
+        fusionMask({&b[0], &b[1]}, tau_g, rows, mask_b);
+      else
+        fusionMask({&b[0], &b[1], &b[2], &b[3]}, tau_g, rows, mask_b);
+      EXPECT_EQ(cv::countNonZero(mask_a != mask_b), 0);
+      int gated = 0;
+      for (int i = 0; i < count; ++i) {
+        EXPECT_EQ(cv::countNonZero(a[i] != b[i]), 0) << i;
+        gated += cv::countNonZero(b[i] != maps[i]);
+      }
+      EXPECT_GT(gated, 0);
+      fuseResponseMasked(pa, count, G, tau_g, rows, mask_a);
+      for (int i = 0; i < count; ++i) {
+        fuseResponse(b[i], G, tau_g, rows, b[i]);
+        EXPECT_EQ(std::memcmp(a[i].data, b[i].data, a[i].total() * sizeof(float)), 0) << i;
+      }
     }
   }
   simd::forceTarget(simd::kBest);

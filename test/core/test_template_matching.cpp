@@ -1,5 +1,6 @@
 // NCC matching: equal to cv::matchTemplate(TM_CCOEFF_NORMED) within 1e-4.
 #include <cmath>
+#include <cstring>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -201,5 +202,39 @@ TEST(NccMatcher, LargeTemplatesOnBrightImagesEqualMatchTemplateOnEveryTarget) {
   }
   simd::forceTarget(simd::kBest);
 }
+// Sparse images (a half-binary road: zeros but for a few lines and specks): windows without a
+// pixel are not accumulated, and their correlations left from a dense image matched before
+// change nothing: the same bits as a fresh matcher on every target, and matchTemplate's scores.
+TEST(NccMatcher, SparseImagesAfterADenseOneEqualAFreshMatcher) {
+  cv::RNG rng(21);
+  cv::Mat dense(120, 203, CV_8UC1), sparse(120, 203, CV_8UC1, cv::Scalar(0));
+  rng.fill(dense, cv::RNG::UNIFORM, 0, 256);
+  cv::line(sparse, cv::Point(20, 119), cv::Point(90, 30), cv::Scalar(220), 6);
+  for (int i = 0; i < 25; ++i)
+    sparse.at<uint8_t>(rng.uniform(0, 120), rng.uniform(0, 203)) =
+        static_cast<uint8_t>(rng.uniform(1, 256));
+  LineTemplate l, r;
+  makeLineTemplate(32, 10, 3 * M_PI / 4 + 0.1, l);  // slope q > 1: stair lookups
+  makeLineTemplate(32, 10, M_PI / 4, r);
+  const cv::Rect region(3, 10, 197, 105);
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    SCOPED_TRACE(simd::targetName(target));
+    NccMatcher used, fresh;
+    cv::Mat ul, ur, fl, fr, rl, rr;
+    ASSERT_TRUE(used.match(dense, region, l, r, ul, ur));
+    ASSERT_TRUE(used.match(sparse, region, l, r, ul, ur));
+    ASSERT_TRUE(fresh.match(sparse, region, l, r, fl, fr));
+    EXPECT_EQ(std::memcmp(ul.data, fl.data, ul.total() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(ur.data, fr.data, ur.total() * sizeof(float)), 0);
+    matchTemplateReference(sparse, region, l, rl);
+    matchTemplateReference(sparse, region, r, rr);
+    EXPECT_LT(maxDiff(fl, rl), 1e-4);
+    EXPECT_LT(maxDiff(fr, rr), 1e-4);
+    EXPECT_GT(cv::countNonZero(fl > 0.5f), 0);  // the line is found
+  }
+  simd::forceTarget(simd::kBest);
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
