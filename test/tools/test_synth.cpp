@@ -12,18 +12,13 @@
 #include "rgbd_lane_detector_tools/synth/renderer.h"
 #include "rgbd_lane_detector_tools/synth/scenario.h"
 #include "rgbd_lane_detector_tools/synth/sequence_writer.h"
+#include "synth_preset.h"
 
 namespace rgbd_lane_detector {
 namespace synth {
 namespace {
 
-SceneSettings preset(const std::string& name, int width = 640, int height = 380) {
-  SceneSettings s;
-  s.width = width;
-  s.height = height;
-  EXPECT_TRUE(applyScenario(name, s));
-  return s;
-}
+using test::preset;
 
 // Ray through pixel (u, v) scaled to z = 1.
 Eigen::Vector3d pixelRay(const Intrinsics& K, double u, double v) {

@@ -9,16 +9,14 @@
 
 #include "rgbd_lane_detector_tools/synth/renderer.h"
 #include "rgbd_lane_detector_tools/synth/scenario.h"
+#include "synth_preset.h"
 
 namespace rgbd_lane_detector {
 namespace synth {
 namespace {
 
-SceneSettings nightMotorway(const std::string& sensor, int width = 640, int height = 380) {
-  SceneSettings s;
-  s.width = width;
-  s.height = height;
-  EXPECT_TRUE(applyScenario("night_motorway", s));
+SceneSettings nightMotorway(const std::string& sensor) {
+  SceneSettings s = test::preset("night_motorway");
   EXPECT_TRUE(applySensor(sensor, s));
   return s;
 }
