@@ -91,8 +91,9 @@ TEST(NightMotorway, LidarReturnsLieOnItsRingsAndNeverOnTheBonnet) {
   for (int ring = 0; ring < s.lidar_beams; ++ring) {
     const double el = low + ring * step;
     const double v_bottom = K.cy + K.fy * std::tan(s.pitch_deg * M_PI / 180.0 - el);
-    if (el < -0.01 && v_bottom < (1.0 - s.bonnet) * s.height - 5)
+    if (el < -0.01 && v_bottom < (1.0 - s.bonnet) * s.height - 5) {
       EXPECT_GT(per_ring[ring], 50) << "ring " << ring;
+    }
   }
   // 2 cm range noise: mean |dz| = 0.02 sqrt(2 / pi) cos(angle to the axis), a little under
   EXPECT_GT(err_sum / returns, 0.02 * std::sqrt(2.0 / M_PI) * 0.8);
