@@ -21,7 +21,9 @@
 #include "rgbd_lane_detector/params_io.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
+#ifdef RLD_PROFILE_REAL_FRAMES  // the catkin build: the tools' dataset readers
 #include "real_inputs.h"
+#endif
 #include "road_frames.h"
 #include "simd.h"
 
@@ -44,7 +46,7 @@ void printStages(const StageTimings& sum, int n) {
 
 // FNV-1a of a result's maps, traces and plane: equal bits give equal sums (SIMD targets, a change
 // that must not change any detection).
-uint64_t checksum(const Result& r) {
+[[maybe_unused]] uint64_t checksum(const Result& r) {
   uint64_t h = 1469598103934665603ull;
   auto add = [&h](const void* p, size_t n) {
     for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const uint8_t*>(p)[i]) * 1099511628211ull;
@@ -66,6 +68,12 @@ uint64_t checksum(const Result& r) {
 // drive, as BM_Real_Detect): CPU ms per call and the stages' wall ms.
 template <typename Clock>
 int profileReal(const std::string& label, int n, const Params& params, Clock cpu_ms) {
+#ifndef RLD_PROFILE_REAL_FRAMES
+  (void)n, (void)params, (void)cpu_ms;
+  std::fprintf(stderr, "real frame %s: this build has no dataset readers (the catkin build has)\n",
+               label.c_str());
+  return 2;
+#else
   const bench::RealInput* in = bench::realInput(label);
   tools::DatasetFrame data;
   std::string error;
@@ -90,6 +98,7 @@ int profileReal(const std::string& label, int n, const Params& params, Clock cpu
               simd::targetName(simd::currentTarget()), ms / n,
               static_cast<unsigned long long>(checksum(r)));
   return 0;
+#endif
 }
 
 int main(int argc, char** argv) {
