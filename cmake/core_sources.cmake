@@ -20,9 +20,11 @@ set(RLD_CORE_SOURCES
   src/core/sliding_box.cpp
   src/core/lane_plane.cpp
   src/core/lane_detector.cpp
+  src/core/lane_detector_road.cpp
   src/core/processing_image.cpp
   src/core/pixel_kernels.cpp
   src/core/road_surface.cpp
+  src/core/road_surface_extend.cpp
   src/core/road_edge_finder.cpp
   src/core/row_statistics.cpp
   src/core/classifier_input.cpp
