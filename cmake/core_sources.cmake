@@ -74,4 +74,5 @@ set(RLD_CORE_TESTS
   test_lane_grid
   test_pixel_kernels
   test_stage_timer
+  test_mirror_symmetry
 )

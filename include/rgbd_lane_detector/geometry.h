@@ -6,12 +6,22 @@
  */
 #pragma once
 
+#include <cmath>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "rgbd_lane_detector/types.h"
 
 namespace rgbd_lane_detector {
+
+/// The nearest column to @p x in an image @p width pixels wide, halves rounded toward the centre
+/// column: a mirrored x (width - 1 - x) gives the mirrored column. (std::lround takes every half
+/// to the right, so a line on a mirrored road would be read a pixel off.)
+inline int roundColumn(double x, int width) {
+  return 2.0 * x >= width - 1 ? static_cast<int>(std::ceil(x - 0.5))
+                              : static_cast<int>(std::floor(x + 0.5));
+}
 
 /// Signed distance of a point to a plane (positive on the camera side).
 inline double planeDistance(const PlaneEstimate& plane, const Eigen::Vector3d& p) {

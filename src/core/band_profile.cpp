@@ -85,7 +85,7 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
   if (!rayPlaneDepth(*in.plane, K.ray(c.x, m.v), m.depth)) return false;
   m.ppm = K.fx / m.depth;  // pixels per metre across the road at this row
   if (m.ppm < kMinPixelsPerMetre) return false;
-  m.u0 = static_cast<int>(std::lround(c.x));
+  m.u0 = roundColumn(c.x, colour.cols);
   m.W = std::min(kMaxProfileHalf,
                  std::max(5, static_cast<int>(std::lround(kProfileHalfWidth * m.ppm))));
   if (m.u0 - m.W < 0 || m.u0 + m.W >= colour.cols) return false;
@@ -158,7 +158,7 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
 bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int half, double max_px,
                              const Params& p, double& centre) {
   const int margin = std::max(3, half);
-  const int u0 = static_cast<int>(std::lround(u));
+  const int u0 = roundColumn(u, in.colour->cols);
   const int W = half + margin;
   if (u0 - W < 0 || u0 + W >= in.colour->cols) return false;
   const ImageRow row(in, v);

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "rgbd_lane_detector/fals_normals.h"
+#include "rgbd_lane_detector/geometry.h"
 #include "rgbd_lane_detector/pca_refinement.h"
 #include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/sliding_box.h"
@@ -159,7 +160,7 @@ void BoundaryCandidateFinder::excludeTrace(const CandidateFrame& f, cv::Mat& R,
   const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
   for (const auto& c : trace.pixels)
     excludeBox(f, R,
-               cv::Point(static_cast<int>(std::lround((c.x + 0.5) * sx - 0.5)),
+               cv::Point(roundColumn((c.x + 0.5) * sx - 0.5, f.proc_size.width),
                          static_cast<int>(std::lround((c.y + 0.5) * sy - 0.5))));
 }
 
@@ -167,22 +168,28 @@ void BoundaryCandidateFinder::findBestMatch(const CandidateFrame& f, const cv::M
                                             cv::Point& peak, float& value) {
   cv::Rect area = f.roi;
   if (params_.ego_lane_seeds) {
-    // the ego lane's left marker lies left of the principal point's column, the right one right
-    const int cx = static_cast<int>(std::lround(f.K.cx * f.proc_size.width / f.input_size.width));
-    const int split = std::min(std::max(cx, 1), f.proc_size.width - 1);
-    area = left ? cv::Rect(0, f.roi.y, split, f.roi.height)
-                : cv::Rect(split, f.roi.y, f.proc_size.width - split, f.roi.height);
+    // the ego lane's left marker lies left of the principal point's column, the right one
+    // right; a principal point on a column gives it to both sides (a mirror swaps them)
+    const double cx = (f.K.cx + 0.5) * f.proc_size.width / f.input_size.width - 0.5;
+    const int last_left = std::min(std::max(static_cast<int>(std::floor(cx)), 0),
+                                   f.proc_size.width - 2);
+    const int first_right = std::min(std::max(static_cast<int>(std::ceil(cx)), 1),
+                                     f.proc_size.width - 1);
+    area = left ? cv::Rect(0, f.roi.y, last_left + 1, f.roi.height)
+                : cv::Rect(first_right, f.roi.y, f.proc_size.width - first_right, f.roi.height);
   }
   double max_v = 0.0;
   cv::Point max_p(-1, -1);
   if (predictedBand(f, left ? 0 : 1, area)) {
-    // the side's lane model predicts where the marker is: take the best match near it
+    // the side's lane model predicts where the marker is: take the best match near it (of
+    // equal ones the topmost, then the innermost: a mirror finds the mirrored one)
     float best = 0.f;
     for (int y = area.y; y < area.y + area.height; ++y) {
       const int lo = band_lo_[y], hi = band_hi_[y];
       if (lo > hi) continue;
       const float* r = R.ptr<float>(y);
-      for (int x = lo; x <= hi; ++x) {
+      const int step = left ? -1 : 1;
+      for (int x = left ? hi : lo, n = hi - lo + 1; n > 0; x += step, --n) {
         if (r[x] > best) {
           best = r[x];
           max_p = cv::Point(x, y);
@@ -197,6 +204,15 @@ void BoundaryCandidateFinder::findBestMatch(const CandidateFrame& f, const cv::M
   }
   maxLocation(R(area), max_v, max_p);  // cv::minMaxLoc's result, vectorised
   peak = max_p + area.tl();
+  if (left && max_p.x >= 0) {  // of equal maxima in the row the innermost, as on the right
+    const float* r = R.ptr<float>(peak.y);
+    for (int x = area.x + area.width - 1; x > peak.x; --x) {
+      if (r[x] == static_cast<float>(max_v)) {
+        peak.x = x;
+        break;
+      }
+    }
+  }
   value = static_cast<float>(max_v);
 }
 
@@ -286,7 +302,7 @@ void BoundaryCandidateFinder::buildTrace(const CandidateFrame& f, const cv::Mat&
     trace.scores.push_back(trace_scores_[i]);
     Eigen::Vector3f pt = pointAt(f, c);
     if (offRoad(f,
-                cv::Point(static_cast<int>(std::lround(c.x)), static_cast<int>(std::lround(c.y)))))
+                cv::Point(roundColumn(c.x, f.proc_size.width), static_cast<int>(std::lround(c.y)))))
       pt.setConstant(std::numeric_limits<float>::quiet_NaN());
     trace.points.push_back(pt);
     if (!std::isnan(pt.z())) ++trace.num_valid_points;
@@ -297,7 +313,7 @@ Eigen::Vector3f BoundaryCandidateFinder::pointAt(const CandidateFrame& f,
                                                  const cv::Point2f& c) const {
   // The centroid's own point, else the depth of the nearest valid pixel in its box on the
   // centroid's ray (never a zero depth).
-  const int cx = std::min(std::max(static_cast<int>(std::lround(c.x)), 0), f.proc_size.width - 1);
+  const int cx = std::min(std::max(roundColumn(c.x, f.proc_size.width), 0), f.proc_size.width - 1);
   const int cy = std::min(std::max(static_cast<int>(std::lround(c.y)), 0), f.proc_size.height - 1);
   const cv::Vec3f& p = f.points->at<cv::Vec3f>(cy, cx);
   if (!std::isnan(p[2])) return Eigen::Vector3f(p[0], p[1], p[2]);

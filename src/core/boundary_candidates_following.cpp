@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "rgbd_lane_detector/geometry.h"
+
 namespace rgbd_lane_detector {
 namespace {
 
@@ -198,7 +200,7 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
                                    static_cast<float>(f.road->distance)) > params_.kerb_height)
     return false;
   if (f.filled != nullptr) {
-    const int px = static_cast<int>(std::lround((m.seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5));
+    const int px = roundColumn((m.seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5, f.proc_size.width);
     const int py = static_cast<int>(std::lround((m.seed.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5));
     if (px >= 0 && py >= 0 && px < f.filled->cols && py < f.filled->rows && f.filled->at<uint8_t>(py, px) != 0)
       return false;

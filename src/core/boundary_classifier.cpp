@@ -104,7 +104,7 @@ bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<
     const ImageRow row(in, v);
     if (!row.valid()) break;
     const int W = std::min(kMaxProfileHalf, static_cast<int>(std::lround(kArrowHalfWidth * ppm)));
-    const int u0 = static_cast<int>(std::lround(u));
+    const int u0 = roundColumn(u, in.colour->cols);
     if (u0 - W < 0 || u0 + W >= in.colour->cols) break;
     row_grey_.clear();
     for (int x = u0 - W; x <= u0 + W; ++x) row_grey_.push_back(row.grey(x));
@@ -144,7 +144,7 @@ bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::
   const Intrinsics& K = in.K;
   object_.clear();  // per pixel: 1 object, 0 road, 2 off the road but no object, -1 no depth
   for (const auto& c : pixels) {
-    const int u = static_cast<int>(std::lround(c.x));
+    const int u = roundColumn(c.x, in.colour->cols);
     const int v = static_cast<int>(std::lround(c.y));
     // kHeightNear across the road in pixels (0: the pixel is not on the road)
     const double near_px = roadPixelsAcross(K, *in.plane, K.ray(u, v), kHeightNear);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "rgbd_lane_detector/geometry.h"
 #include "simd.h"
 #endif
 
@@ -54,15 +55,20 @@ int boxRowScalar(const float*, int, float, int&, int64_t&) {
 HWY_EXPORT(boxRow);
 #endif
 
-// Centroid of the pixels above threshold in the box of side s centred at c (clipped to bounds).
-// The sums are exact integers, so every target gives the same centroid.
-int boxCentroid(const cv::Mat& R, const cv::Point2f& c, int s, float threshold,
-                const cv::Rect& bounds, cv::Point2f& centroid) {
-  const int x0 = static_cast<int>(std::floor(c.x - 0.5f * s + 0.5f));
-  const int y0 = static_cast<int>(std::floor(c.y - 0.5f * s + 0.5f));
-  const cv::Rect box = cv::Rect(x0, y0, s, s) & bounds;
-  int64_t sx = 0, sy = 0;
-  int n = 0;
+// The trace runs in columns from the image's centre column, x - ox with ox = (width - 1) / 2, so
+// that a mirrored road (x -> width - 1 - x) is traced with every float operation negated: the
+// same rounding, the mirrored boxes. Conversions go through double, where they are exact.
+struct Columns {
+  double ox;
+  double absolute(float x) const { return static_cast<double>(x) + ox; }
+  float centred(double x) const { return static_cast<float>(x - ox); }
+};
+
+// Pixels above threshold in a rectangle (clipped to bounds): their count and column and row sums.
+void boxSums(const cv::Mat& R, const cv::Rect& rect, float threshold, const cv::Rect& bounds,
+             int64_t& n, int64_t& sx, int64_t& sy) {
+  const cv::Rect box = rect & bounds;
+  n = sx = sy = 0;
   for (int y = box.y; y < box.y + box.height; ++y) {
     const float* r = R.ptr<float>(y) + box.x;
     int count = 0;
@@ -78,22 +84,54 @@ int boxCentroid(const cv::Mat& R, const cv::Point2f& c, int s, float threshold,
     sy += static_cast<int64_t>(y) * count;
     n += count;
   }
+}
+
+// Centroid of the pixels above threshold in the box of side s centred at c (centred columns,
+// clipped to bounds); returns their number (weighted). The sums are exact integers, so every
+// target gives the same centroid. An odd s (a template with a centre pixel): the columns whose
+// centres are within s / 2 of c.x; where the box's ends fall on pixel centres (c.x halfway
+// between two pixels) the two end columns count half, so that a mirrored centre has the mirrored
+// box. An even s keeps the s columns from floor(c.x - s / 2 + 0.5), the box of c.x - 0.5 (as the
+// matcher writes an even template's score half a pixel right of its centre, nothing after it is
+// symmetric; the symmetric box measured worse on the real corpus with it).
+int64_t boxCentroid(const cv::Mat& R, const cv::Point2f& c, int s, float threshold,
+                    const cv::Rect& bounds, const Columns& cols, cv::Point2f& centroid) {
+  const double a = cols.absolute(c.x);
+  int x0 = static_cast<int>(std::floor(a - 0.5 * s + 0.5)), x1 = x0 + s - 1;
+  if (s % 2 == 1) {
+    x0 = static_cast<int>(std::ceil(a - 0.5 * s));
+    x1 = static_cast<int>(std::floor(a + 0.5 * s));
+  }
+  const int y0 = static_cast<int>(std::floor(c.y - 0.5f * s + 0.5f));
+  int64_t n = 0, sx = 0, sy = 0;
+  boxSums(R, cv::Rect(x0, y0, x1 - x0 + 1, s), threshold, bounds, n, sx, sy);
+  if (x1 - x0 == s) {  // half end columns: every sum doubled, the ends' taken once
+    int64_t n0, sx0, sy0, n1, sx1, sy1;
+    boxSums(R, cv::Rect(x0, y0, 1, s), threshold, bounds, n0, sx0, sy0);
+    boxSums(R, cv::Rect(x1, y0, 1, s), threshold, bounds, n1, sx1, sy1);
+    n = 2 * n - n0 - n1;
+    sx = 2 * sx - sx0 - sx1;
+    sy = 2 * sy - sy0 - sy1;
+  }
+  // x - ox = (2 sx - (width - 1) n) / 2n: an exact integer numerator, negated by a mirror
   if (n > 0)
-    centroid = cv::Point2f(static_cast<float>(static_cast<double>(sx) / n),
-                           static_cast<float>(static_cast<double>(sy) / n));
+    centroid = cv::Point2f(
+        static_cast<float>(static_cast<double>(2 * sx - static_cast<int64_t>(2.0 * cols.ox) * n) /
+                           (2.0 * static_cast<double>(n))),
+        static_cast<float>(static_cast<double>(sy) / static_cast<double>(n)));
   return n;
 }
 
-float sampleR(const cv::Mat& R, const cv::Point2f& p) {
-  const int x = std::min(std::max(static_cast<int>(std::lround(p.x)), 0), R.cols - 1);
+float sampleR(const cv::Mat& R, const cv::Point2f& p, const Columns& cols) {
+  const int x = std::min(std::max(roundColumn(cols.absolute(p.x), R.cols), 0), R.cols - 1);
   const int y = std::min(std::max(static_cast<int>(std::lround(p.y)), 0), R.rows - 1);
   return R.at<float>(y, x);
 }
 
 // Trace one direction; appends the recorded centroids (in tracing order).
 void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
-                    const TraceParams& tp, const cv::Rect& bounds, std::vector<cv::Point2f>& out,
-                    std::vector<float>& scores) {
+                    const TraceParams& tp, const cv::Rect& bounds, const Columns& cols,
+                    std::vector<cv::Point2f>& out, std::vector<float>& scores) {
   cv::Point2f pos = start;
   cv::Point2f last = start;  // last recorded centroid
   const cv::Point2f d0 = d;
@@ -102,11 +140,12 @@ void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
   int gaps = 0;
   for (int step = 0; step < tp.max_steps; ++step) {
     const cv::Point2f next = pos + jump * d;
-    if (next.x < bounds.x || next.y < bounds.y || next.x >= bounds.x + bounds.width ||
+    const double next_x = cols.absolute(next.x);
+    if (next_x < bounds.x || next.y < bounds.y || next_x >= bounds.x + bounds.width ||
         next.y >= bounds.y + bounds.height)
       break;
     cv::Point2f c;
-    if (boxCentroid(R, next, tp.box_size, tp.threshold, bounds, c) == 0) {
+    if (boxCentroid(R, next, tp.box_size, tp.threshold, bounds, cols, c) == 0) {
       if (++gaps > tp.gap_steps) break;
       pos = next;
       continue;
@@ -119,7 +158,7 @@ void traceDirection(const cv::Mat& R, const cv::Point2f& start, cv::Point2f d,
     const cv::Point2f delta = c - last;
     if (delta.dot(d) >= 0.5f * jump) {
       out.push_back(c);
-      scores.push_back(sampleR(R, c));
+      scores.push_back(sampleR(R, c, cols));
       if (tp.follow_curve) {
         const float len = std::sqrt(delta.dot(delta));
         if (len >= jump) {
@@ -147,17 +186,21 @@ void traceMarker(const cv::Mat& R, const cv::Point2f& seed, double angle, const 
   if (bounds.empty() ||
       !bounds.contains(cv::Point(static_cast<int>(seed.x), static_cast<int>(seed.y))))
     return;
+  const Columns cols{0.5 * (R.cols - 1)};
   cv::Point2f start;
-  if (boxCentroid(R, seed, params.box_size, params.threshold, bounds, start) == 0) return;
+  if (boxCentroid(R, cv::Point2f(cols.centred(seed.x), seed.y), params.box_size,
+                  params.threshold, bounds, cols, start) == 0)
+    return;
 
   const cv::Point2f down(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
   // near part: trace down, then reverse so that the list runs near to far
-  traceDirection(R, start, down, params, bounds, centroids, scores);
+  traceDirection(R, start, down, params, bounds, cols, centroids, scores);
   std::reverse(centroids.begin(), centroids.end());
   std::reverse(scores.begin(), scores.end());
   centroids.push_back(start);
-  scores.push_back(sampleR(R, start));
-  traceDirection(R, start, -down, params, bounds, centroids, scores);
+  scores.push_back(sampleR(R, start, cols));
+  traceDirection(R, start, -down, params, bounds, cols, centroids, scores);
+  for (auto& c : centroids) c.x = static_cast<float>(cols.absolute(c.x));
 }
 
 }  // namespace rgbd_lane_detector
