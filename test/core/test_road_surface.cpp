@@ -198,6 +198,38 @@ TEST(RoadSurface, AMountOffTheRoadFallsBackToTheDepth) {
   EXPECT_NEAR(plane.distance, scene.height, 0.01);
 }
 
+TEST(RoadSurface, NotAPlaneThatTheRoadLiesBelow) {
+  // no depth in the bottom 30% of the rows (a LiDAR's blind zone, a bonnet), a wet road that
+  // returns only from its paint (lines at x = +-1.7 m), and 0.9 m high platforms from |x| = 2 m
+  // (a row of parked vans, a loading bay) that return everywhere: the platforms' top is a
+  // road-like plane 0.6 m below the camera holding most of the depth, but the road's paint lies
+  // beneath it, and nothing lies beneath a road
+  Scene scene;
+  scene.boxes = {{2.0, 100.0, 0.0, 200.0, 0.9}, {-100.0, -2.0, 0.0, 200.0, 0.9}};
+  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch), h = scene.height;
+  scene.hole = [c, sn, h](int u, int v) {
+    if (v > kH * 7 / 10) return true;
+    const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
+    const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
+    if (!(w.y() > 1e-6)) return false;
+    const double x = w.x() * h / w.y();  // where the ray meets the road
+    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > 0.15;
+  };
+  RoadSurface road;
+  PlaneEstimate plane;
+  // the road's paint alone holds too small a share of the depth to be the road: no plane
+  // rather than a wrong one (the platforms' top: 0.6 m, before)
+  if (road.fit(scene.render(), kRows, settings(), PlaneEstimate(), plane)) {
+    EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.5);
+    EXPECT_NEAR(plane.distance, scene.height, 0.03);
+  }
+  // with the road returning everywhere, the road
+  scene.hole = [](int, int v) { return v > kH * 7 / 10; };
+  ASSERT_TRUE(road.fit(scene.render(), kRows, settings(), PlaneEstimate(), plane));
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.5);
+  EXPECT_NEAR(plane.distance, scene.height, 0.03);
+}
+
 TEST(RoadSurface, CrestEndsTheValidRange) {
   // a crest of 400 m vertical radius: the plane holds near the car; the valid range ends about
   // where the road ahead leaves the fitted plane by 8 cm (5 m steps)
