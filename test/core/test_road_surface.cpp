@@ -1,6 +1,8 @@
 // Road surface from depth: a robust plane over the searched rows, with cars, raised sidewalks,
 // missing depth near the car, noise and a crest.
 #include <cmath>
+#include <cstring>
+#include <vector>
 #include <functional>
 
 #include <Eigen/Geometry>
@@ -8,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/road_surface.h"
+#include "simd.h"
 #include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
@@ -115,6 +118,42 @@ TEST(RoadSurface, FillFromRoadPlaneExtendsOnlyARoadSeenToContinue) {
   // without a plane: nothing
   EXPECT_EQ(road.extendToCamera(pts, kRows, kK, PlaneEstimate(), 0.04, 0.0015, filled), 0);
   EXPECT_EQ(cv::countNonZero(filled), 0);
+}
+
+// The fill's rows are a kernel of every SIMD target: the same points (bits, NaN left alone) and
+// mask as the scalar target, on a width that leaves a tail of columns to the per-pixel code.
+TEST(RoadSurface, FillGivesTheSameBitsOnEveryTarget) {
+  Scene scene;
+  scene.boxes = {{-2.5, -0.8, 2.0, 5.0, 1.5}};
+  const int hole_row = kH * 3 / 4;
+  scene.hole = [hole_row](int u, int v) { return v > hole_row - (u % 7 == 0 ? 9 : 0); };
+  const cv::Mat full = scene.render();
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(full, kRows, settings(), PlaneEstimate(), plane));
+  const cv::Mat rendered = full(cv::Rect(0, 0, kW - 3, kH)).clone();
+  cv::Mat ref_pts, ref_filled;
+  int ref_count = -1;
+  const std::vector<simd::Target> targets = simd::availableTargets();  // the scalar one last
+  ASSERT_EQ(targets.back(), simd::kScalar);
+  for (auto it = targets.rbegin(); it != targets.rend(); ++it) {  // the scalar one first
+    const simd::Target target = *it;
+    SCOPED_TRACE(simd::targetName(target));
+    simd::forceTarget(target);
+    cv::Mat pts = rendered.clone(), filled;
+    const int count = road.extendToCamera(pts, kRows, kK, plane, 0.04, 0.0015, filled);
+    if (ref_count < 0) {
+      ref_pts = pts;
+      ref_filled = filled;
+      ref_count = count;
+      EXPECT_GT(count, (kW - 3) * (kH - hole_row - 1) / 2);  // the road below the hole
+      continue;
+    }
+    EXPECT_EQ(count, ref_count);
+    EXPECT_EQ(std::memcmp(pts.data, ref_pts.data, pts.total() * pts.elemSize()), 0);
+    EXPECT_EQ(std::memcmp(filled.data, ref_filled.data, filled.total()), 0);
+  }
+  simd::forceTarget(simd::kBest);
 }
 
 TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
