@@ -179,19 +179,34 @@ TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
 // A wet road that returns depth from its paint alone (two lines at x = +-1.7 m, 20 cm wide),
 // between 15 cm pavements from |x| = 2 m that return everywhere: the road holds a small share
 // of the depth.
-Scene wetRoadBetweenPavements() {
+// Where the ray of pixel (u, v) meets the road of @p scene: its lateral position x (m, right
+// positive); false above the horizon.
+bool roadLateral(const Scene& scene, int u, int v, double& x) {
+  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch);
+  const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
+  const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
+  if (!(w.y() > 1e-6)) return false;
+  x = w.x() * scene.height / w.y();
+  return true;
+}
+
+// A road that returns depth only from two painted lines at x = +-1.7 m (half width
+// @p paint_half) between |x| = 2 m and @p kerb high platforms beyond; rows below
+// @p blind_from (share of the image height) without depth.
+Scene wetRoadBetween(double kerb, double paint_half, double blind_from) {
   Scene scene;
-  scene.boxes = {{2.0, 100.0, 0.0, 200.0, 0.15}, {-100.0, -2.0, 0.0, 200.0, 0.15}};
-  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch), h = scene.height;
-  scene.hole = [c, sn, h](int u, int v) {
-    const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
-    const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
-    if (!(w.y() > 1e-6)) return false;
-    const double x = w.x() * h / w.y();  // where the ray meets the road
-    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > 0.1;
+  scene.boxes = {{2.0, 100.0, 0.0, 200.0, kerb}, {-100.0, -2.0, 0.0, 200.0, kerb}};
+  const Scene geometry = scene;
+  scene.hole = [geometry, paint_half, blind_from](int u, int v) {
+    if (v > blind_from * kH) return true;
+    double x = 0.0;
+    if (!roadLateral(geometry, u, v, x)) return false;
+    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > paint_half;
   };
   return scene;
 }
+
+Scene wetRoadBetweenPavements() { return wetRoadBetween(0.15, 0.1, 1.0); }
 
 TEST(RoadSurface, TheMountKeepsARoadSeenMostlyAsPaint) {
   // the vehicle's mount (its up axis and the camera's height above the road) is where the fit
@@ -243,17 +258,7 @@ TEST(RoadSurface, NotAPlaneThatTheRoadLiesBelow) {
   // (a row of parked vans, a loading bay) that return everywhere: the platforms' top is a
   // road-like plane 0.6 m below the camera holding most of the depth, but the road's paint lies
   // beneath it, and nothing lies beneath a road
-  Scene scene;
-  scene.boxes = {{2.0, 100.0, 0.0, 200.0, 0.9}, {-100.0, -2.0, 0.0, 200.0, 0.9}};
-  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch), h = scene.height;
-  scene.hole = [c, sn, h](int u, int v) {
-    if (v > kH * 7 / 10) return true;
-    const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
-    const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
-    if (!(w.y() > 1e-6)) return false;
-    const double x = w.x() * h / w.y();  // where the ray meets the road
-    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > 0.15;
-  };
+  Scene scene = wetRoadBetween(0.9, 0.15, 0.7);
   RoadSurface road;
   PlaneEstimate plane;
   // the road's paint alone holds too small a share of the depth to be the road: no plane
