@@ -216,7 +216,9 @@ TEST(LaneFitter, ACrossedLineChangesSidesWhenTheVehiclePassesIt) {
     if (crossed > 0.0) {
       ASSERT_TRUE(f.result.left.found) << k;
       EXPECT_LT(offLine(f.result.left, crossed, slope), 0.1) << k;
-      if (f.result.right.found) EXPECT_LT(offLine(f.result.right, crossed - 3.6, slope), 0.1) << k;
+      if (f.result.right.found) {
+        EXPECT_LT(offLine(f.result.right, crossed - 3.6, slope), 0.1) << k;
+      }
     } else if (k == 7) {
       ASSERT_TRUE(f.result.right.found);
       EXPECT_LT(offLine(f.result.right, crossed, slope), 0.1);
