@@ -207,7 +207,6 @@ class LaneDetector {
   NccMatcher matcher_;
   LineTemplate left_template_, right_template_;
   // acquisition: templates at acquisition_angle_deg for sides without a tracked boundary
-  NccMatcher acquisition_matcher_;
   LineTemplate acquisition_left_, acquisition_right_;
   cv::Mat acquisition_response_left_, acquisition_response_right_;
   std::array<bool, 2> acquiring_{{false, false}};

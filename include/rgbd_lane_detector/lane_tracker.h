@@ -73,10 +73,11 @@ class LaneTracker {
   /**
    * @brief Update both sides with this frame's traced points.
    *
-   * The camera's own sideways motion moves both markers alike: the model is first moved by the
-   * sideways speed of the recent frames (a lane change, a drift: a side without evidence follows
-   * it), then by the median disagreement of this frame's points with the established model
-   * (which also updates that speed), then the points that pass the gate are added.
+   * The camera's own sideways motion and yaw move both markers alike: the model is first moved
+   * and turned by the sideways speed and turn rate of the recent frames (a lane change, a drift:
+   * a side without evidence follows it), then turned by the slope of this frame's points'
+   * disagreement with the established model and moved by their median disagreement (which also
+   * update that turn rate and speed), then the points that pass the gate are added.
    * @param[in] frame road frame of this frame's lane plane (invalid: no evidence, sides age).
    * @param[in] left,right traced 3D points of each side (non-finite entries skipped; empty: no
    *            evidence for that side).
@@ -121,6 +122,11 @@ class LaneTracker {
   static Vec6 basis(int side, double f);
   void solve();
   void shift(double delta);
+  /// The data turned by @p angle (rad, + toward the left) about the camera.
+  void rotate(double angle);
+  /// Turn of side @p i's measurements against its model (slope of the residuals within
+  /// @p gate); false when their forward span or the turn is implausible.
+  bool measureTurn(int i, double gate, double& turn);
   /// Keep the points within @p gate of the robust straight line through them.
   static void trimToLine(std::vector<Eigen::Vector2d>& m, double gate);
 
@@ -130,7 +136,9 @@ class LaneTracker {
   std::array<Side, 2> sides_;
   std::array<std::vector<Eigen::Vector2d>, 2> measurements_;
   std::vector<double> residuals_;
+  std::vector<Eigen::Vector2d> residual_points_;
   double drift_ = 0.0;  ///< the lane's sideways motion per frame, predicted at each update (m)
+  double turn_ = 0.0;   ///< the lane's turn per frame (rad), predicted at each update
 };
 
 }  // namespace rgbd_lane_detector

@@ -131,8 +131,10 @@ class RoadSurface {
   int nearGridCount(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
                     int stride) const;
   bool plausible(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
-  /// Weighted count of the near samples within the band of (n, d).
-  double score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
+  /// Weighted count of the near samples within the band of (n, d); @p below (optional) gets
+  /// the weight of those more than two bands below it (beyond the road, seen from the camera).
+  double score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s,
+               double* below = nullptr) const;
   bool ransac(const RoadSurfaceSettings& s, Eigen::Vector3d& n, double& d);
   /// IRLS refit of (n, d) on the near samples within @p first_band times the band.
   bool refine(const RoadSurfaceSettings& s, double first_band, Eigen::Vector3d& n, double& d);

@@ -46,6 +46,22 @@ class NccMatcher {
   bool match(const cv::Mat& image, const cv::Rect& region, const LineTemplate& left,
              const LineTemplate& right, cv::Mat& response_left, cv::Mat& response_right);
 
+  /// The most templates one match() pass scores.
+  static constexpr int kMaxTemplates = 4;
+
+  /**
+   * @brief Match 1 to kMaxTemplates templates of equal size in one pass: the integral images,
+   * the window mean and energy are computed once for all of them, and templates of the same
+   * slope share a running-sum table. Each map equals what a match() of its template alone
+   * gives, bit for bit.
+   * @param[in] image,region as above.
+   * @param[in] templates @p count templates of equal size.
+   * @param[out] responses @p count CV_32FC1 image-sized score maps (distinct).
+   * @return false when the region is smaller than the template (outputs are all 0).
+   */
+  bool match(const cv::Mat& image, const cv::Rect& region, const LineTemplate* const* templates,
+             cv::Mat* const* responses, int count);
+
  private:
   /// One lookup of a compiled template: +/- table(y + dy, x + dx).
   struct Term {
@@ -57,22 +73,26 @@ class NccMatcher {
   struct Compiled {
     std::vector<Term> plus, minus;
     int p = 0, q = 1;
-    int stair = 0;       ///< which running-sum table (0 or 1) holds its slope
+    int stair = 0;       ///< which running-sum table holds its slope
     double count = 0.0;  ///< line pixels
   };
   void compile(const LineTemplate& t, Compiled& c);
   void produceRow(const cv::Mat& image, const cv::Rect& region, int y);
 
-  Compiled compiled_[2];
-  const uint8_t* cleared_[2] = {nullptr, nullptr};  ///< maps whose rows outside the region are 0
-  cv::Rect cleared_region_[2];
+  Compiled compiled_[kMaxTemplates];
+  int templates_ = 0;  ///< templates of this pass
+  int tables_ = 0;     ///< running-sum tables of this pass (distinct slopes)
+  int table_p_[kMaxTemplates] = {}, table_q_[kMaxTemplates] = {};  ///< each table's slope
+  const uint8_t* cleared_[kMaxTemplates] = {};  ///< maps whose rows outside the region are 0
+  cv::Rect cleared_region_[kMaxTemplates];
   int ring_ = 0;                  ///< rows held by each table
   int margin_ = 0;                ///< extra columns each side of the running-sum tables
   int width_ = 0;                 ///< region width
   cv::Mat integral_;              ///< CV_32SC1 ring: integral image rows (width + 1 columns)
   cv::Mat integral_sq_;           ///< CV_32SC1 ring: integral of squares
-  cv::Mat stair_[2];              ///< CV_32SC1 rings: running sums of P along a slope
-  std::vector<uint32_t> acc_[2];  ///< one output row of correlations
+  cv::Mat stair_[kMaxTemplates];  ///< CV_32SC1 rings: running sums of P along a slope
+  std::vector<uint32_t> acc_[kMaxTemplates];  ///< one output row of correlations
+  std::vector<int> runs_;         ///< output columns [begin, end) of the row with pixels
   std::vector<const uint32_t*> plus_ptr_, minus_ptr_;  ///< lookups of the current row
 };
 

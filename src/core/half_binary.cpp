@@ -96,6 +96,45 @@ int convertMono(const uint8_t* s, uint8_t* d, int w, int tau) {
   return convertFormat<PixelFormat::kMono8>(s, d, w, tau);
 }
 
+// Through a column map: the pixel of each output column read as one 32-bit lane at byte
+// cn cm[x] of the source row (its channels are the lane's bytes; the caller keeps the 4 bytes
+// inside the row), then greyTozero() as convertRowT(). Returns the columns done.
+template <int cn, int ri, int bi>
+int gatherRowT(const uint8_t* src, const int* cm, int n, uint8_t* dst, int tau) {
+  const hn::ScalableTag<int32_t> d32;
+  const hn::Rebind<uint8_t, decltype(d32)> d8;
+  const int N = static_cast<int>(hn::Lanes(d32));
+  const auto bytes = hn::Set(d32, cn), low = hn::Set(d32, 0xff);
+  const int32_t* base = reinterpret_cast<const int32_t*>(src);
+  int x = 0;
+  for (; x + N <= n; x += N) {
+    const auto v = hn::GatherOffset(d32, base, hn::Mul(hn::LoadU(d32, cm + x), bytes));
+    const auto r = hn::And(hn::ShiftRight<8 * ri>(v), low);
+    const auto g = hn::And(hn::ShiftRight<8>(v), low);
+    const auto b = hn::And(hn::ShiftRight<8 * bi>(v), low);
+    hn::StoreU(hn::DemoteTo(d8, greyTozero(d32, r, g, b, tau)), d8, dst + x);
+  }
+  return x;
+}
+template <PixelFormat F>
+int gatherFormat(const uint8_t* s, const int* cm, int n, uint8_t* d, int tau) {
+  constexpr PixelLayout L = pixelLayout(F);
+  static_assert(L.channels >= 3 && L.g == 1, "gatherRowT reads green at byte 1");
+  return gatherRowT<L.channels, L.r, L.b>(s, cm, n, d, tau);
+}
+int gatherBgr(const uint8_t* s, const int* cm, int n, uint8_t* d, int tau) {
+  return gatherFormat<PixelFormat::kBgr8>(s, cm, n, d, tau);
+}
+int gatherRgb(const uint8_t* s, const int* cm, int n, uint8_t* d, int tau) {
+  return gatherFormat<PixelFormat::kRgb8>(s, cm, n, d, tau);
+}
+int gatherBgra(const uint8_t* s, const int* cm, int n, uint8_t* d, int tau) {
+  return gatherFormat<PixelFormat::kBgra8>(s, cm, n, d, tau);
+}
+int gatherRgba(const uint8_t* s, const int* cm, int n, uint8_t* d, int tau) {
+  return gatherFormat<PixelFormat::kRgba8>(s, cm, n, d, tau);
+}
+
 RLD_KERNELS_END
 #endif  // RLD_HAVE_HWY
 
@@ -110,6 +149,11 @@ int convertScalar(const uint8_t*, uint8_t*, int, int) {
 constexpr auto convertBgrScalar = convertScalar, convertRgbScalar = convertScalar,
                convertBgraScalar = convertScalar, convertRgbaScalar = convertScalar,
                convertMonoScalar = convertScalar;
+int gatherScalar(const uint8_t*, const int*, int, uint8_t*, int) {
+  return 0;
+}
+constexpr auto gatherBgrScalar = gatherScalar, gatherRgbScalar = gatherScalar,
+               gatherBgraScalar = gatherScalar, gatherRgbaScalar = gatherScalar;
 }  // namespace
 
 #ifdef RLD_HAVE_HWY
@@ -118,6 +162,10 @@ HWY_EXPORT(convertRgb);
 HWY_EXPORT(convertBgra);
 HWY_EXPORT(convertRgba);
 HWY_EXPORT(convertMono);
+HWY_EXPORT(gatherBgr);
+HWY_EXPORT(gatherRgb);
+HWY_EXPORT(gatherBgra);
+HWY_EXPORT(gatherRgba);
 #endif
 
 namespace {
@@ -142,6 +190,38 @@ void convertAnyRow(PixelFormat format, const uint8_t* src, uint8_t* dst, int w, 
     case PixelFormat::kMono8:
       convertRow<F::kMono8>(src, dst, RLD_DISPATCH(convertMono)(src, dst, w, tau), w, tau);
       break;
+  }
+}
+
+// Columns [0, n) of a row through the column map by the format's gather kernel (colour formats
+// only; the 4 bytes read at each pixel must lie inside the row): the columns done.
+int gatherAnyRow(PixelFormat format, const uint8_t* src, const int* cm, int n, uint8_t* dst,
+                 int tau) {
+  switch (format) {
+    case PixelFormat::kBgr8:
+      return RLD_DISPATCH(gatherBgr)(src, cm, n, dst, tau);
+    case PixelFormat::kRgb8:
+      return RLD_DISPATCH(gatherRgb)(src, cm, n, dst, tau);
+    case PixelFormat::kBgra8:
+      return RLD_DISPATCH(gatherBgra)(src, cm, n, dst, tau);
+    case PixelFormat::kRgba8:
+      return RLD_DISPATCH(gatherRgba)(src, cm, n, dst, tau);
+    case PixelFormat::kMono8:
+      break;
+  }
+  return 0;
+}
+
+// The per-pixel conversion of the columns [from, w) of a row.
+void convertRowFrom(PixelFormat format, const uint8_t* src, uint8_t* dst, int from, int w,
+                    int tau) {
+  using F = PixelFormat;
+  switch (format) {
+    case F::kBgr8: convertRow<F::kBgr8>(src, dst, from, w, tau); break;
+    case F::kRgb8: convertRow<F::kRgb8>(src, dst, from, w, tau); break;
+    case F::kBgra8: convertRow<F::kBgra8>(src, dst, from, w, tau); break;
+    case F::kRgba8: convertRow<F::kRgba8>(src, dst, from, w, tau); break;
+    case F::kMono8: convertRow<F::kMono8>(src, dst, from, w, tau); break;
   }
 }
 
@@ -186,12 +266,22 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
   const size_t row_bytes = colour.cols * colour.elemSize();
   const size_t bytes = static_cast<size_t>(w) * e + 1;
   if (gathered.size() < bytes) gathered.resize(bytes);
+  // colour: the columns whose 4 bytes lie inside the row straight from the source row by the
+  // gather kernel (as one 32-bit lane per pixel), the rest gathered and converted pixel by pixel
+  const int gather_end = e == 4 ? w : e == 3 ? w4 : 0;
   for (int y = r.start; y < r.end; ++y) {
     const uint8_t* src = colour.ptr<uint8_t>(rm[y]);
+    uint8_t* dst = out.ptr<uint8_t>(y);
     uint8_t* g = gathered.data();
     if (y + 1 < r.end) {  // the next source row into the cache while this one is gathered
       const uint8_t* next = colour.ptr<uint8_t>(rm[y + 1]);
       for (size_t i = 0; i < row_bytes; i += 64) __builtin_prefetch(next + i);
+    }
+    const int done = gather_end > 0 ? gatherAnyRow(format, src, cm, gather_end, dst, tau) : 0;
+    if (done > 0) {
+      for (int x = done; x < w; ++x) std::memcpy(g + x * e, src + cm[x] * e, e);
+      convertRowFrom(format, g, dst, done, w, tau);
+      continue;
     }
     if (e == 3) {
       int x = 0;
@@ -202,7 +292,7 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
     } else {
       for (int x = 0; x < w; ++x) std::memcpy(g + x * e, src + cm[x] * e, e);
     }
-    convertAnyRow(format, g, out.ptr<uint8_t>(y), w, tau);
+    convertAnyRow(format, g, dst, w, tau);
   }
 }
 

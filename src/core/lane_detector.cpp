@@ -262,13 +262,12 @@ void LaneDetector::computeGeometric(const cv::Mat* mask) {
 }
 
 void LaneDetector::matchTemplates() {
-  // 4. matching, with the acquisition templates too for the sides that acquire
+  // 4. matching, with the acquisition templates too for the sides that acquire: one pass (the
+  // window sums shared), each map as its template alone gives it
   const StageTimer timer(timings_.matching);
-  matcher_.match(half_binary_, roi_, left_template_, right_template_, response_left_,
-                 response_right_);
-  if (acquiring())
-    acquisition_matcher_.match(half_binary_, roi_, acquisition_left_, acquisition_right_,
-                               acquisition_response_left_, acquisition_response_right_);
+  const LineTemplate* templates[4] = {&left_template_, &right_template_, &acquisition_left_,
+                                      &acquisition_right_};
+  matcher_.match(half_binary_, roi_, templates, matchMaps(), acquiring() ? 4 : 2);
 }
 
 void LaneDetector::gateByPlane() {

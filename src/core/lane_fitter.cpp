@@ -29,7 +29,10 @@ constexpr int kMaxEdgeSamples = 40;     // reported points of a road edge at mos
 constexpr double kEdgeSpike = 0.1;      // m off its robust curve: not the edge
 constexpr int kSwitchFrames = 3;         // frames a nearer line must persist to replace a track
 constexpr int kCarryFrames = 3;          // frames a tracked side is carried before another line replaces it
-constexpr double kCrossProbe = 1.5;      // m ahead where a marker's side of the vehicle is told
+// m ahead where a marker's side of the vehicle is told: at the vehicle (the road under the
+// camera), where the lane model relabels its lanes and the vehicle is in one lane or the other;
+// not where it heads (1.5 m ahead of a vehicle turning 0.1 rad is 0.15 m to the side)
+constexpr double kCrossProbe = 0.0;
 constexpr double kNextLaneMin = 1.5;     // m: an outer line at least this far beyond the ego one
 constexpr double kLineGate = 0.3;        // m: a candidate's points this near its line are its own
 

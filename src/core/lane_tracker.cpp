@@ -33,6 +33,18 @@ constexpr double kMinLength = 2.0;
 // Sideways speed of the lane: gain of each frame's measured shift, decay without one.
 constexpr double kDriftGain = 0.5;
 constexpr double kDriftDecay = 0.9;
+// Turning of the lane relative to the camera (the vehicle's yaw: a lane change, a swerve): a
+// side's residuals measure it as their slope over the forward distance when its points span at
+// least kTurnSpan metres (a solid line, or two dashes of a 12 m dash period: a slope over a few
+// metres is noise); a turn above kMaxTurn per frame (2.9 deg) is no vehicle's. Both sides must
+// measure it and agree within kTurnAgree: the vehicle's yaw turns both alike, while one side's
+// slope alone can be its own shape (a kerb leaving the lane, a trace pulled off the line). Like
+// the drift, the turn rate has a gain and a decay.
+constexpr double kTurnSpan = 12.0;
+constexpr double kMaxTurn = 0.05;
+constexpr double kTurnAgree = 0.01;
+constexpr double kTurnGain = 0.5;
+constexpr double kTurnDecay = 0.9;
 
 }  // namespace
 
@@ -73,6 +85,7 @@ double LaneTracker::Side::farthest() const {
 
 void LaneTracker::reset() {
   drift_ = 0.0;
+  turn_ = 0.0;
   for (int i = 0; i < 2; ++i) {
     A_[i].setZero();
     b_[i].setZero();
@@ -127,6 +140,31 @@ void LaneTracker::shift(double delta) {
   coef_[1] += delta;
 }
 
+void LaneTracker::rotate(double angle) {
+  // the data turned by angle about the camera: y -> y + angle f (f = kForwardScale s), so
+  // b = sum w phi y -> b + angle kForwardScale sum w phi s, and for side i sum w phi s = A_i e_(2+i)
+  for (int i = 0; i < 2; ++i) b_[i] += angle * kForwardScale * A_[i].col(2 + i);
+  coef_[2] += angle * kForwardScale;
+  coef_[3] += angle * kForwardScale;
+}
+
+bool LaneTracker::measureTurn(int i, double gate, double& turn) {
+  // the slope of the side's residuals over the forward distance, from points that span enough
+  residual_points_.clear();
+  double near = std::numeric_limits<double>::infinity(), far = -near;
+  for (const auto& q : measurements_[i]) {
+    const double r = q.y() - lateral(i, q.x());
+    if (std::fabs(r) > gate) continue;
+    residual_points_.emplace_back(q.x(), r);
+    near = std::min(near, q.x());
+    far = std::max(far, q.x());
+  }
+  if (!(far - near >= kTurnSpan)) return false;
+  double a = 0.0;
+  if (!fitRobustLine(residual_points_, 0.5 * gate, a, turn)) return false;
+  return std::fabs(turn) <= kMaxTurn;
+}
+
 void LaneTracker::solve() {
   Mat6 M = A_[0] + A_[1];
   for (int k = 0; k < 4; ++k) M(k, k) += 1e-9;
@@ -156,7 +194,10 @@ void LaneTracker::update(const RoadFrame& frame, const std::vector<Eigen::Vector
 
   // the lane keeps moving sideways as it did (a lane change, a drift): predict that first, so
   // that a side without evidence follows it and the gate below looks at the right place
-  if (valid(0) || valid(1)) shift(drift_);
+  if (valid(0) || valid(1)) {
+    shift(drift_);
+    rotate(turn_);
+  }
 
   // Gate per side; a stale side whose new evidence disagrees starts its model over.
   bool gate[2] = {false, false};
@@ -175,6 +216,21 @@ void LaneTracker::update(const RoadFrame& frame, const std::vector<Eigen::Vector
   // through its own points (a trace that left the marker) are dropped.
   for (int i = 0; i < 2; ++i)
     if (enough(i) && !gate[i]) trimToLine(measurements_[i], params.gate);
+
+  // Common turning of the lane relative to the camera since the last frame (the vehicle's yaw:
+  // evidence of older frames lies at the old heading): the slope of the sides' disagreement with
+  // the model, taken when both sides measure a plausible one and they agree.
+  double side_turn[2];
+  bool have_turn[2] = {false, false};
+  for (int i = 0; i < 2; ++i)
+    if (gate[i]) have_turn[i] = measureTurn(i, params.gate, side_turn[i]);
+  if (have_turn[0] && have_turn[1] && std::fabs(side_turn[0] - side_turn[1]) <= kTurnAgree) {
+    const double turned = 0.5 * (side_turn[0] + side_turn[1]);
+    rotate(turned);
+    turn_ += kTurnGain * turned;
+  } else {
+    turn_ *= kTurnDecay;
+  }
 
   // Common sideways motion of the lane relative to the camera since the last frame: the median
   // disagreement of each observed side with the model, taken when it is a plausible motion (at

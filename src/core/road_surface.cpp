@@ -23,6 +23,8 @@ constexpr double kRansacBand = 2.0;         // first refit band around a RANSAC 
 constexpr double kMountBand = 1.0;          // first refit band around the mount's plane (x band)
 constexpr double kAboveBand = 0.5;          // with a mount: share of the refit band above the plane
 constexpr double kMinInlierShare = 0.15;    // of the near samples' weight
+constexpr double kBelowBand = 2.0;          // RANSAC: a sample this many bands below is under it
+constexpr double kBelowWeight = 4.0;        // RANSAC: a sample under a plane outweighs an inlier
 constexpr double kNoiseMinDepth = 5.0;      // m: the noise growth is measured beyond this
 constexpr size_t kMaxSupport = 200;         // support points kept for the message
 // Valid range: 5 m bins beyond fit_range, the mode of the corridor's residuals per bin.
@@ -192,15 +194,21 @@ bool RoadSurface::plausible(const Eigen::Vector3d& n, double d,
   return n.dot(s.up) >= std::cos(s.max_tilt_deg * M_PI / 180.0);
 }
 
-double RoadSurface::score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const {
+double RoadSurface::score(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s,
+                          double* below) const {
   const Eigen::Vector3f nf = n.cast<float>();
   const float df = static_cast<float>(d);
-  double total = 0.0;
+  double total = 0.0, under = 0.0;
   for (const Sample& smp : near_) {
     const float z = smp.p.z();
     const float b = static_cast<float>(s.inlier_distance + growth_ * z * z);
-    if (std::fabs(nf.dot(smp.p) + df) <= b) total += smp.weight;
+    const float r = nf.dot(smp.p) + df;
+    if (std::fabs(r) <= b)
+      total += smp.weight;
+    else if (r < -kBelowBand * b)
+      under += smp.weight;
   }
+  if (below) *below = under;
   return total;
 }
 
@@ -248,7 +256,10 @@ bool RoadSurface::ransac(const RoadSurfaceSettings& s, Eigen::Vector3d& n, doubl
     cand /= len;
     double cd = -cand.dot(a);
     if (!orient(cand, cd) || !plausible(cand, cd, s)) continue;
-    const double sc = score(cand, cd, s);
+    // the road is what everything stands on: depth well below a hypothesis (the road beside
+    // the cars a plane through their bodies lies on) counts against it
+    double below = 0.0;
+    const double sc = score(cand, cd, s, &below) - kBelowWeight * below;
     if (sc > best) {
       best = sc;
       n = cand;

@@ -1,6 +1,9 @@
 // The road surface extended toward the camera (RoadSurface::extendToCamera()): where a column's
 // nearest depth is road, the road continues down to the image's bottom rows, which LiDAR and
-// stereo often leave empty.
+// stereo often leave empty. The fill of a row is a kernel compiled for every SIMD target
+// (simd.h); this file is included once per target by Highway's foreach_target.h.
+#ifndef RLD_ROAD_SURFACE_EXTEND_ONCE
+#define RLD_ROAD_SURFACE_EXTEND_ONCE
 #include "rgbd_lane_detector/road_surface.h"
 
 #include <algorithm>
@@ -9,9 +12,111 @@
 
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/geometry.h"
+#include "simd.h"
 
 namespace rgbd_lane_detector {
 namespace {
+
+/// One image row of the fill: each column at or below its first row to fill gets the point where
+/// its ray meets the road plane (rayPlaneDepth() written out), unless the ray misses the plane.
+struct FillRow {
+  const int* from;      ///< per column: the first row to fill
+  const double* rx;     ///< per column: the ray's x (z = 1)
+  const double* nx_rx;  ///< per column: nx rx
+  double ny_ry;         ///< this row: ny ry
+  double nz;
+  double ry;     ///< this row: the ray's y
+  double neg_d;  ///< -plane.distance
+  int v;         ///< the row
+  float* row;    ///< the row's points (x, y, z per column)
+  uint8_t* mark;  ///< the row of the filled mask
+};
+
+// Columns [c, w), the definition every vector lane follows (n . ray is (nx rx + ny ry) + nz 1;
+// the point is not read: no depth here, the column's nearest depth is above). Returns the
+// points filled.
+inline int fillTail(const FillRow& f, int c, int w) {
+  int count = 0;
+  for (int x = c; x < w; ++x) {
+    if (f.v < f.from[x]) continue;
+    const double den = (f.nx_rx[x] + f.ny_ry) + f.nz * 1.0;
+    if (!(den < -1e-9)) continue;  // the ray misses the road plane
+    const double t = f.neg_d / den;
+    float* p = f.row + 3 * x;
+    p[0] = static_cast<float>(f.rx[x] * t);
+    p[1] = static_cast<float>(f.ry * t);
+    p[2] = static_cast<float>(t);
+    f.mark[x] = 255;
+    ++count;
+  }
+  return count;
+}
+
+}  // namespace
+}  // namespace rgbd_lane_detector
+#endif  // RLD_ROAD_SURFACE_EXTEND_ONCE
+
+#ifdef RLD_HAVE_HWY
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "road_surface_extend.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+RLD_KERNELS_BEGIN
+
+// fillTail() on whole vectors of columns, lane for lane (double lanes; the points' floats and
+// the mask bytes blended where a lane fills). Returns the columns done; *count += the points.
+int fillRowKernel(const FillRow& f, int w, int* count) {
+  const hn::ScalableTag<double> d;
+  const hn::Rebind<int32_t, decltype(d)> di;
+  const hn::Rebind<float, decltype(d)> df;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  const int N = static_cast<int>(hn::Lanes(d));
+  const auto below = hn::Set(di, f.v + 1);
+  const auto ny_ry = hn::Set(d, f.ny_ry), nz = hn::Set(d, f.nz),
+             limit = hn::Set(d, -1e-9), neg_d = hn::Set(d, f.neg_d), ry = hn::Set(d, f.ry),
+             one = hn::Set(d, 1.0);
+  const auto one_i = hn::Set(di, 1), full_i = hn::Set(di, 255);
+  int x = 0, filled = 0;
+  for (; x + N <= w; x += N) {
+    const auto open = hn::Lt(hn::LoadU(di, f.from + x), below);  // f.v >= from
+    if (hn::AllFalse(di, open)) continue;
+    const auto den = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x), ny_ry), hn::Mul(nz, one));
+    const auto hit = hn::Lt(den, limit);
+    // both conditions in int32 lanes (the double mask as 1 or 0)
+    const auto fill = hn::And(open, hn::Eq(hn::DemoteTo(di, hn::IfThenElseZero(hit, one)), one_i));
+    if (hn::AllFalse(di, fill)) continue;
+    const auto t = hn::Div(neg_d, den);
+    const auto px = hn::DemoteTo(df, hn::Mul(hn::LoadU(d, f.rx + x), t));
+    const auto py = hn::DemoteTo(df, hn::Mul(ry, t));
+    const auto pz = hn::DemoteTo(df, t);
+    float* p = f.row + 3 * x;
+    const auto fill_f = hn::RebindMask(df, fill);
+    hn::Vec<decltype(df)> ox, oy, oz;
+    hn::LoadInterleaved3(df, p, ox, oy, oz);
+    hn::StoreInterleaved3(hn::IfThenElse(fill_f, px, ox), hn::IfThenElse(fill_f, py, oy),
+                          hn::IfThenElse(fill_f, pz, oz), df, p);
+    const auto old_mark = hn::PromoteTo(di, hn::LoadU(d8, f.mark + x));
+    hn::StoreU(hn::DemoteTo(d8, hn::IfThenElse(fill, full_i, old_mark)), d8, f.mark + x);
+    filled += static_cast<int>(hn::CountTrue(di, fill));
+  }
+  *count += filled;
+  return x;
+}
+
+RLD_KERNELS_END
+#endif  // RLD_HAVE_HWY
+
+#if HWY_ONCE
+namespace rgbd_lane_detector {
+namespace {
+
+int fillRowKernelScalar(const FillRow&, int, int*) {
+  return 0;  // fillTail() does every column
+}
+#ifdef RLD_HAVE_HWY
+HWY_EXPORT(fillRowKernel);
+#endif
 
 // No number among the n floats at p.
 bool noNumber(const float* p, int n) {
@@ -74,33 +179,33 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
     first = std::min(first, y + 1);
   }
   // each pixel's ray K.ray(u, v) from its column's and its row's part, and rayPlaneDepth()
-  // written out: the same operations in the same order (n . ray is (nx rx + ny ry) + nz 1)
-  // (the products nx rx per column and ny ry per row, once)
+  // written out (fillTail()): the products nx rx per column and ny ry per row, once
   const double nx = plane.normal.x(), ny = plane.normal.y(), nz = plane.normal.z();
   fill_rx_.resize(2 * w);
+  double* rx = fill_rx_.data();
+  double* nx_rx = rx + w;
   for (int x = 0; x < w; ++x) {
-    fill_rx_[2 * x] = K.ray(cm ? cm[x] : x, 0.0).x();
-    fill_rx_[2 * x + 1] = nx * fill_rx_[2 * x];
+    rx[x] = K.ray(cm ? cm[x] : x, 0.0).x();
+    nx_rx[x] = nx * rx[x];
   }
+  FillRow f;
+  f.from = fill_from_.data();
+  f.rx = rx;
+  f.nx_rx = nx_rx;
+  f.nz = nz;
+  f.neg_d = -plane.distance;
   int count = 0;
   for (int v = first; v < r1; ++v) {
-    const double ry = K.ray(0.0, rm ? rm[v] : v).y(), ny_ry = ny * ry;
-    cv::Vec3f* row = points.ptr<cv::Vec3f>(v);
-    uint8_t* mark = filled.ptr<uint8_t>(v);
-    for (int x = 0; x < w; ++x) {
-      if (v < fill_from_[x]) continue;
-      const double den = (fill_rx_[2 * x + 1] + ny_ry) + nz * 1.0;
-      if (!(den < -1e-9)) continue;  // the ray misses the road plane
-      // (no depth here: the column's nearest depth is above; the point is not read)
-      cv::Vec3f& p = row[x];
-      const double t = -plane.distance / den;
-      p = cv::Vec3f(static_cast<float>(fill_rx_[2 * x] * t), static_cast<float>(ry * t),
-                    static_cast<float>(t));
-      mark[x] = 255;
-      ++count;
-    }
+    f.ry = K.ray(0.0, rm ? rm[v] : v).y();
+    f.ny_ry = ny * f.ry;
+    f.v = v;
+    f.row = points.ptr<float>(v);
+    f.mark = filled.ptr<uint8_t>(v);
+    const int done = RLD_DISPATCH(fillRowKernel)(f, w, &count);
+    count += fillTail(f, done, w);
   }
   return count;
 }
 
 }  // namespace rgbd_lane_detector
+#endif  // HWY_ONCE

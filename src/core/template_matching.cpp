@@ -35,8 +35,8 @@ struct RowUpdate {
   const uint32_t* sq_old;
   uint32_t* sq_new;
   int tables;
-  const uint32_t* e_old[2];  ///< already shifted by -p: e_new[X] = P[X] + e_old[X]
-  uint32_t* e_new[2];
+  const uint32_t* e_old[NccMatcher::kMaxTemplates];  ///< shifted by -p: e_new[X] = P[X] + e_old[X]
+  uint32_t* e_new[NccMatcher::kMaxTemplates];
 };
 
 // Scalar columns [c, w) continuing from the prefix values a (of I) and b (of I^2).
@@ -54,7 +54,8 @@ inline uint32_t updateTail(const RowUpdate& u, int c, uint32_t a, uint32_t b) {
 
 /// Inputs of one output row of scores.
 struct ScoreRow {
-  const uint32_t* acc[2];  ///< template correlations (sum of I over the line)
+  int templates;  ///< 1 to NccMatcher::kMaxTemplates
+  const uint32_t* acc[NccMatcher::kMaxTemplates];  ///< correlations (sum of I over the line)
   const uint32_t* top;     ///< integral row at the window top, column x
   const uint32_t* bottom;  ///< integral row below the window
   const uint32_t* top_sq;  ///< same for the squares
@@ -62,9 +63,9 @@ struct ScoreRow {
   int s;     ///< template side: window columns x .. x + s
   int area;  ///< s * s
   double inv_area;
-  int count[2];  ///< line pixels of each template
-  float k[2];    ///< 1 / (area |T - mean T|), T in {0, 1}
-  float* out[2];
+  int count[NccMatcher::kMaxTemplates];  ///< line pixels of each template
+  float k[NccMatcher::kMaxTemplates];    ///< 1 / (area |T - mean T|), T in {0, 1}
+  float* out[NccMatcher::kMaxTemplates];
 };
 
 constexpr float kInfF = std::numeric_limits<float>::infinity();
@@ -84,7 +85,7 @@ inline void scorePixel(const ScoreRow& r, int x) {
   const bool keep = diff2 > std::min(0.5, 10 * FLT_EPSILON * sum2);
   // 1 / sqrt(inf) = 0: flat windows score 0
   const float inv_sd = 1.f / std::sqrt(keep ? static_cast<float>(diff2) : kInfF);
-  for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < r.templates; ++k) {
     const int64_t N = static_cast<int64_t>(r.area) * static_cast<int32_t>(r.acc[k][x]) -
                       static_cast<int64_t>(r.count[k]) * S;
     const float v = static_cast<float>(N) * (inv_sd * r.k[k]);
@@ -203,8 +204,8 @@ int scoreRowT(const ScoreRow& r, int n) {
     const auto S = hn::Sub(hn::Sub(ld(r.bottom + r.s + x), ld(r.bottom + x)),
                            hn::Sub(ld(r.top + r.s + x), ld(r.top + x)));
     if (hn::AllTrue(d32, hn::Eq(S, hn::Zero(d32)))) {
-      hn::StoreU(f_zero, df, r.out[0] + x);  // windows of zeros are flat
-      hn::StoreU(f_zero, df, r.out[1] + x);
+      for (int k = 0; k < r.templates; ++k)
+        hn::StoreU(f_zero, df, r.out[k] + x);  // windows of zeros are flat
       continue;
     }
     const auto Q = hn::Sub(hn::Sub(ld(r.bottom_sq + r.s + x), ld(r.bottom_sq + x)),
@@ -221,7 +222,7 @@ int scoreRowT(const ScoreRow& r, int n) {
       d_f[h] = hn::DemoteTo(dfh, hn::IfThenElse(keep, diff2, inf_d));
     }
     const auto inv_sd = hn::Div(f_one, hn::Sqrt(hn::Combine(df, d_f[1], d_f[0])));
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < r.templates; ++k) {
       hn::Vec<decltype(df)> num;
       if (kWide) {
         const auto A = ld(r.acc[k] + x);
@@ -293,11 +294,11 @@ void NccMatcher::produceRow(const cv::Mat& image, const cv::Rect& region, int y)
   u.ii_new = integral_.ptr<uint32_t>((y + 1) % ring_);
   u.sq_old = integral_sq_.ptr<uint32_t>(y % ring_);
   u.sq_new = integral_sq_.ptr<uint32_t>((y + 1) % ring_);
-  u.tables = compiled_[1].stair == 1 ? 2 : 1;
-  const uint32_t* older[2];
+  u.tables = tables_;
+  const uint32_t* older[kMaxTemplates];
   for (int k = 0; k < u.tables; ++k) {
-    older[k] = stair_[k].ptr<uint32_t>((y - compiled_[k].q + ring_) % ring_) + m;
-    u.e_old[k] = older[k] - compiled_[k].p;
+    older[k] = stair_[k].ptr<uint32_t>((y - table_q_[k] + ring_) % ring_) + m;
+    u.e_old[k] = older[k] - table_p_[k];
     u.e_new[k] = stair_[k].ptr<uint32_t>(y % ring_) + m;
   }
   const uint32_t total = updateRow(u);
@@ -306,7 +307,7 @@ void NccMatcher::produceRow(const cv::Mat& image, const cv::Rect& region, int y)
   // running sums at column 0 and in the margins, where P is 0 left of the region and the row
   // total right of it: E(y, X) = P(X) + E(y - q, X - p), E outside [-m, w + m] counting 0
   for (int k = 0; k < u.tables; ++k) {
-    const int p = compiled_[k].p;
+    const int p = table_p_[k];
     auto step = [&](int X) {
       const uint32_t P = X <= 0 ? 0u : total;
       u.e_new[k][X] = P + (X - p >= -m && X - p <= w + m ? older[k][X - p] : 0u);
@@ -318,20 +319,26 @@ void NccMatcher::produceRow(const cv::Mat& image, const cv::Rect& region, int y)
 
 bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const LineTemplate& left,
                        const LineTemplate& right, cv::Mat& response_left, cv::Mat& response_right) {
-  CV_Assert(image.type() == CV_8UC1 && left.size == right.size);
-  if (referenceStages()) {
-    matchTemplateReference(image, region_in, left, response_left);
-    matchTemplateReference(image, region_in, right, response_right);
-    const cv::Rect region = region_in & cv::Rect(0, 0, image.cols, image.rows);
-    return region.width >= left.size && region.height >= left.size;
-  }
-  response_left.create(image.size(), CV_32FC1);
-  response_right.create(image.size(), CV_32FC1);
+  const LineTemplate* templates[2] = {&left, &right};
+  cv::Mat* responses[2] = {&response_left, &response_right};
+  return match(image, region_in, templates, responses, 2);
+}
+
+bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in,
+                       const LineTemplate* const* templates, cv::Mat* const* responses,
+                       int count) {
+  CV_Assert(image.type() == CV_8UC1 && count >= 1 && count <= kMaxTemplates);
+  const int s = templates[0]->size;
+  for (int k = 1; k < count; ++k) CV_Assert(templates[k]->size == s);
   const cv::Rect region = region_in & cv::Rect(0, 0, image.cols, image.rows);
-  const int s = left.size;
+  if (referenceStages()) {
+    for (int k = 0; k < count; ++k)
+      matchTemplateReference(image, region_in, *templates[k], *responses[k]);
+    return region.width >= s && region.height >= s;
+  }
+  for (int k = 0; k < count; ++k) responses[k]->create(image.size(), CV_32FC1);
   if (region.width < s || region.height < s) {
-    zero(response_left, cv::Rect(0, 0, image.cols, image.rows));
-    zero(response_right, cv::Rect(0, 0, image.cols, image.rows));
+    for (int k = 0; k < count; ++k) zero(*responses[k], cv::Rect(0, 0, image.cols, image.rows));
     return false;
   }
   const int w = region.width, h = region.height;
@@ -343,8 +350,8 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
   // at 1280x760 they are 3.5 MB a frame.
   const int y0 = region.y + off, x0 = region.x + off;
   const int rb = region.br().y;
-  for (int k = 0; k < 2; ++k) {
-    cv::Mat& R = k ? response_right : response_left;
+  for (int k = 0; k < count; ++k) {
+    cv::Mat& R = *responses[k];
     if (R.data != cleared_[k] || region != cleared_region_[k] || R.size() != image.size()) {
       zero(R, cv::Rect(0, 0, image.cols, region.y));
       zero(R, cv::Rect(0, rb, image.cols, image.rows - rb));
@@ -357,14 +364,25 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
     zero(R, cv::Rect(x0 + ow, y0, image.cols - x0 - ow, oh));
   }
 
-  compile(left, compiled_[0]);
-  compile(right, compiled_[1]);
-  compiled_[0].stair = 0;
-  const bool same_slope = compiled_[1].p == compiled_[0].p && compiled_[1].q == compiled_[0].q;
-  compiled_[1].stair = same_slope ? 0 : 1;
+  // the templates' terms; one running-sum table per distinct slope
+  templates_ = count;
+  tables_ = 0;
+  margin_ = 0;
+  int max_q = 1;
+  for (int k = 0; k < count; ++k) {
+    Compiled& c = compiled_[k];
+    compile(*templates[k], c);
+    c.stair = 0;
+    while (c.stair < tables_ && (table_p_[c.stair] != c.p || table_q_[c.stair] != c.q)) ++c.stair;
+    if (c.stair == tables_) {
+      table_p_[tables_] = c.p;
+      table_q_[tables_++] = c.q;
+    }
+    margin_ = std::max(margin_, std::abs(c.p));
+    max_q = std::max(max_q, c.q);
+  }
   width_ = w;
-  margin_ = std::max(std::abs(compiled_[0].p), std::abs(compiled_[1].p));
-  ring_ = s + std::max(compiled_[0].q, compiled_[1].q) + 1;
+  ring_ = s + max_q + 1;
   const int cols = w + 1 + 2 * margin_;
   // Buffers only grow: a template slope that changes between frames (ring rows, margins) must
   // not reallocate in steady state.
@@ -374,29 +392,33 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
   };
   ensure(integral_, ring_, w + 1);
   ensure(integral_sq_, ring_, w + 1);
-  ensure(stair_[0], ring_, cols);
-  ensure(stair_[1], ring_, cols);
-  for (auto& a : acc_) a.resize(ow);
-  plus_ptr_.reserve(4 + 4 * kMaxSlopeDenominator);
-  minus_ptr_.reserve(4 + 4 * kMaxSlopeDenominator);
-  plus_ptr_.resize(std::max(compiled_[0].plus.size(), compiled_[1].plus.size()));
-  minus_ptr_.resize(plus_ptr_.size());
+  for (int t = 0; t < tables_; ++t) ensure(stair_[t], ring_, cols);
+  for (int k = 0; k < count; ++k) acc_[k].resize(ow);
+  constexpr int kMaxPairs = 4 + 4 * kMaxSlopeDenominator;  // compile()'s most
+  plus_ptr_.reserve(kMaxPairs);
+  minus_ptr_.reserve(kMaxPairs);
+  runs_.reserve(ow + 1);  // at most one run per two blocks
   // integral row 0 and the running sums before the region are zero
   zero(integral_, cv::Rect(0, 0, w + 1, 1));
   zero(integral_sq_, cv::Rect(0, 0, w + 1, 1));
-  for (int k = 0; k < 2; ++k)
-    for (int y = -compiled_[k].q; y < 0; ++y)
-      zero(stair_[compiled_[k].stair], cv::Rect(0, y + ring_, cols, 1));
+  for (int t = 0; t < tables_; ++t)
+    for (int y = -table_q_[t]; y < 0; ++y) zero(stair_[t], cv::Rect(0, y + ring_, cols, 1));
 
   const int area = s * s;
   const double inv_area = 1.0 / area;
-  float k_t[2];
-  for (int k = 0; k < 2; ++k) {
+  ScoreRow sr;
+  sr.templates = count;
+  sr.s = s;
+  sr.area = area;
+  sr.inv_area = inv_area;
+  for (int k = 0; k < count; ++k) {
     // sum (T - mean T)^2 for a binary template, in units where T is 1 on the line; an empty or
     // full template has no defined correlation and scores 0
     const double n_t = compiled_[k].count;
     const double var = n_t - n_t * n_t * inv_area;
-    k_t[k] = var > 0.0 ? static_cast<float>(1.0 / (area * std::sqrt(var))) : 0.f;
+    sr.k[k] = var > 0.0 ? static_cast<float>(1.0 / (area * std::sqrt(var))) : 0.f;
+    sr.count[k] = static_cast<int>(compiled_[k].count);
+    sr.acc[k] = acc_[k].data();
   }
 
   for (int y = 0; y < s - 1; ++y) produceRow(image, region, y);
@@ -416,50 +438,52 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
       return (bottom[e] - bottom[x0]) - (top[e] - top[x0]) == 0u;
     };
     constexpr int kBlock = 16;
-    for (int k = 0; k < 2; ++k) {
+    runs_.clear();  // the runs of blocks with pixels, the same for every template
+    for (int b = 0; b < ow;) {
+      int e = b;
+      while (e < ow && !empty(e, std::min(ow, e + kBlock))) e = std::min(ow, e + kBlock);
+      if (e > b) {
+        runs_.push_back(b);
+        runs_.push_back(e);
+      }
+      while (e < ow && empty(e, std::min(ow, e + kBlock))) e = std::min(ow, e + kBlock);
+      b = e;
+    }
+    for (int k = 0; k < count; ++k) {
       const Compiled& c = compiled_[k];
       const int pairs = static_cast<int>(c.plus.size());
-      for (int i = 0; i < pairs; ++i) {
-        plus_ptr_[i] = row(c.plus[i].stair, c.stair, c.plus[i].dy) + c.plus[i].dx;
-        minus_ptr_[i] = row(c.minus[i].stair, c.stair, c.minus[i].dy) + c.minus[i].dx;
-      }
-      constexpr int kMaxPairs = 4 + 4 * kMaxSlopeDenominator;  // compile()'s most
       if (pairs > kMaxPairs) {
+        plus_ptr_.resize(pairs);
+        minus_ptr_.resize(pairs);
+        for (int i = 0; i < pairs; ++i) {
+          plus_ptr_[i] = row(c.plus[i].stair, c.stair, c.plus[i].dy) + c.plus[i].dx;
+          minus_ptr_[i] = row(c.minus[i].stair, c.stair, c.minus[i].dy) + c.minus[i].dx;
+        }
         accumulate(acc_[k].data(), plus_ptr_.data(), minus_ptr_.data(), pairs, ow);
         continue;
       }
-      for (int x0 = 0; x0 < ow;) {
-        int x1 = x0;  // a run of blocks with pixels
-        while (x1 < ow && !empty(x1, std::min(ow, x1 + kBlock))) x1 = std::min(ow, x1 + kBlock);
-        if (x1 > x0) {
-          const uint32_t* plus[kMaxPairs];
-          const uint32_t* minus[kMaxPairs];
-          for (int i = 0; i < pairs; ++i) {
-            plus[i] = plus_ptr_[i] + x0;
-            minus[i] = minus_ptr_[i] + x0;
-          }
-          accumulate(acc_[k].data() + x0, plus, minus, pairs, x1 - x0);
+      const uint32_t* plus_row[kMaxPairs];
+      const uint32_t* minus_row[kMaxPairs];
+      for (int i = 0; i < pairs; ++i) {
+        plus_row[i] = row(c.plus[i].stair, c.stair, c.plus[i].dy) + c.plus[i].dx;
+        minus_row[i] = row(c.minus[i].stair, c.stair, c.minus[i].dy) + c.minus[i].dx;
+      }
+      for (size_t j = 0; j < runs_.size(); j += 2) {
+        const int b = runs_[j], e = runs_[j + 1];
+        const uint32_t* plus[kMaxPairs];
+        const uint32_t* minus[kMaxPairs];
+        for (int i = 0; i < pairs; ++i) {
+          plus[i] = plus_row[i] + b;
+          minus[i] = minus_row[i] + b;
         }
-        while (x1 < ow && empty(x1, std::min(ow, x1 + kBlock))) x1 = std::min(ow, x1 + kBlock);
-        x0 = x1;
+        accumulate(acc_[k].data() + b, plus, minus, pairs, e - b);
       }
     }
-    ScoreRow sr;
-    sr.acc[0] = acc_[0].data();
-    sr.acc[1] = acc_[1].data();
-    sr.top = integral_.ptr<uint32_t>(y % ring_);
-    sr.bottom = integral_.ptr<uint32_t>((y + s) % ring_);
+    sr.top = top;
+    sr.bottom = bottom;
     sr.top_sq = integral_sq_.ptr<uint32_t>(y % ring_);
     sr.bottom_sq = integral_sq_.ptr<uint32_t>((y + s) % ring_);
-    sr.s = s;
-    sr.area = area;
-    sr.inv_area = inv_area;
-    for (int k = 0; k < 2; ++k) {
-      sr.count[k] = static_cast<int>(compiled_[k].count);
-      sr.k[k] = k_t[k];
-    }
-    sr.out[0] = response_left.ptr<float>(y0 + y) + x0;
-    sr.out[1] = response_right.ptr<float>(y0 + y) + x0;
+    for (int k = 0; k < count; ++k) sr.out[k] = responses[k]->ptr<float>(y0 + y) + x0;
     scoreRow(sr, ow);
   }
   return true;

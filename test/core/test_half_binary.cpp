@@ -64,7 +64,7 @@ TEST(HalfBinary, GreyWeightsAreBt601) {
 }
 
 // Through index maps (the detector's processing scale): the half-binary image of the resampled
-// colour, on every target, for 1, 3 and 4 channels; the maps reach the last source column (the
+// colour, on every target, for 1, 3 and 4 channels (both channel orders); the maps reach the last source column (the
 // 3-channel gather must not read past a row) and rows outside the range stay 0.
 TEST(HalfBinary, ThroughIndexMapsIsTheResampledImage) {
   cv::RNG rng(3);
@@ -83,7 +83,9 @@ TEST(HalfBinary, ThroughIndexMapsIsTheResampledImage) {
   for (simd::Target target : simd::availableTargets()) {
     simd::forceTarget(target);
     for (const auto& [img, fmt] : {std::make_pair(bgr, PixelFormat::kBgr8),
+                                   std::make_pair(bgr, PixelFormat::kRgb8),
                                    std::make_pair(bgra, PixelFormat::kBgra8),
+                                   std::make_pair(bgra, PixelFormat::kRgba8),
                                    std::make_pair(grey, PixelFormat::kMono8)}) {
       SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", format "
                                       << static_cast<int>(fmt));

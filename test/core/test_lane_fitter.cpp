@@ -161,6 +161,71 @@ TEST(LaneFitter, TrackedBoundaryBeforeANewNearerLine) {
   EXPECT_NEAR(meanX(f.result.left), -1.8, 0.05);
 }
 
+// A traced paint line at lateral y0 (RoadFrame y, left) at the camera and heading slope (dy/dz),
+// 4-30 m ahead on the level road (camera x = -y).
+BoundaryCandidate slanted(double y0, double slope) {
+  BoundaryCandidate c;
+  c.trace.peak_score = 1.2f;
+  c.trace.angle_valid = true;
+  for (double z = 4.0; z <= 30.0; z *= 1.1) {
+    const double x = -(y0 + slope * z);
+    c.trace.pixels.emplace_back(static_cast<float>(kK.fx * x / z + kK.cx),
+                                static_cast<float>(kK.fy * kHeight / z + kK.cy));
+    c.trace.points.emplace_back(static_cast<float>(x), static_cast<float>(kHeight),
+                                static_cast<float>(z));
+    c.trace.scores.push_back(1.0f);
+  }
+  c.trace.num_valid_points = static_cast<int>(c.trace.points.size());
+  c.trace.seed = c.trace.pixels.front();
+  c.trace.seed_point = c.trace.points.front();
+  c.evidence.boundary = true;
+  c.evidence.kind = kPaint;
+  c.evidence.margin = 0.8f;
+  return c;
+}
+
+// Mean lateral distance (m) of a side's reported points from the line y = y0 + slope z.
+double offLine(const MarkerTrace& m, double y0, double slope) {
+  double s = 0;
+  int n = 0;
+  for (const auto& p : m.points)
+    if (p.allFinite()) {
+      s += std::fabs(-p.x() - (y0 + slope * p.z()));
+      ++n;
+    }
+  return n ? s / n : NAN;
+}
+
+TEST(LaneFitter, ACrossedLineChangesSidesWhenTheVehiclePassesIt) {
+  // A lane change to the left: the vehicle heads 0.1 rad left of the lane and moves 0.2 m left
+  // per frame. The left line is the ego lane's left boundary while it is left of the vehicle
+  // (its lateral position at the camera, y0 > 0: the lane model's and the ground truth's rule
+  // too), although 1.5 m ahead, where the vehicle heads, it is already to the right; once the
+  // vehicle has passed it, it is the right boundary. A line within boundary_offset_min of the
+  // camera is no usable candidate: the tracker carries it over those frames.
+  LaneFitter fitter = improved();
+  const double slope = -0.1;  // the lane, seen from the vehicle, runs to the right
+  for (int k = 0; k <= 7; ++k) {
+    const double crossed = 1.07 - 0.2 * k;  // y0 of the line the vehicle crosses
+    Frame f;
+    for (double y0 : {crossed + 3.6, crossed, crossed - 3.6}) {
+      // each side's candidates: the lines seen on that side of the image at 4 m
+      f.candidates[y0 + slope * 4.0 > 0.0 ? 0 : 1].push_back(slanted(y0, slope));
+    }
+    f.fit(fitter);
+    if (crossed > 0.0) {
+      ASSERT_TRUE(f.result.left.found) << k;
+      EXPECT_LT(offLine(f.result.left, crossed, slope), 0.1) << k;
+      if (f.result.right.found) {
+        EXPECT_LT(offLine(f.result.right, crossed - 3.6, slope), 0.1) << k;
+      }
+    } else if (k == 7) {
+      ASSERT_TRUE(f.result.right.found);
+      EXPECT_LT(offLine(f.result.right, crossed, slope), 0.1);
+    }
+  }
+}
+
 TEST(LaneFitter, ConfidenceGrowsWithEvidenceAndFadesWithout) {
   Params p = Params::improved();
   LaneFitter fitter;

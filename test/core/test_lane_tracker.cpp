@@ -186,6 +186,44 @@ TEST(LaneTracker, ARoadEdgeIsReportedLessFarBeyondItsEvidence) {
   EXPECT_TRUE(out.empty());
 }
 
+// Points of a straight line at lateral offset + slope f (RoadFrame y, left) over [f0, f1], kept
+// where a dash of @p dash metres every @p period metres starting at @p phase lies (period 0: a
+// solid line).
+std::vector<Eigen::Vector3f> line(double offset, double slope, double f0, double f1,
+                                  double period = 0.0, double dash = 0.0, double phase = 0.0) {
+  std::vector<Eigen::Vector3f> pts;
+  for (double f = f0; f <= f1 + 1e-9; f += 0.5) {
+    if (period > 0.0 && std::fmod(f - phase + 100.0 * period, period) > dash) continue;
+    pts.emplace_back(static_cast<float>(-(offset + slope * f)), 1.5f, static_cast<float>(f));
+  }
+  return pts;
+}
+
+TEST(LaneTracker, FollowsTheLaneWhileTheVehicleTurns) {
+  // A lane change to the left at 20 m/s and 10 frames/s: the car yaws left by 0.01 rad per frame
+  // for half a second and back for half a second, so in the camera's road frame the lane turns
+  // right and back (up to 2.9 deg) and moves right. The left line is dashed (3 m of paint every
+  // 12 m), the right one solid. The evidence of the previous frames lies at the old heading: the
+  // model must turn with the lane, not lag it (a lagging model is 0.3-0.5 m off 30 m ahead).
+  LaneTracker t;
+  const RoadFrame f = RoadFrame::fromPlane(road());
+  TrackerParams tp;
+  double offset = 0.0, slope = 0.0;
+  for (int k = 0; k < 20; ++k) {
+    slope += k < 3 ? 0.0 : k < 8 ? -0.01 : k < 13 ? 0.01 : 0.0;
+    offset += 2.0 * slope;  // 2 m forward at the heading
+    const double phase = std::fmod(-2.0 * k, 12.0);
+    t.update(f, line(offset + 1.8, slope, 3, 40, 12.0, 3.0, phase), line(offset - 1.8, slope, 3, 40),
+             tp);
+    ASSERT_TRUE(t.valid(0) && t.valid(1)) << k;
+    if (k < 5) continue;  // (the turn rate takes a frame or two to be learnt)
+    for (double d : {5.0, 20.0, 30.0}) {
+      EXPECT_NEAR(t.lateral(0, d), offset + 1.8 + slope * d, 0.1) << k << " " << d;
+      EXPECT_NEAR(t.lateral(1, d), offset - 1.8 + slope * d, 0.1) << k << " " << d;
+    }
+  }
+}
+
 TEST(LaneTracker, InvalidFrameAgesWithoutCrashing) {
   LaneTracker t;
   TrackerParams tp;

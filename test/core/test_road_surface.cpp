@@ -1,6 +1,8 @@
 // Road surface from depth: a robust plane over the searched rows, with cars, raised sidewalks,
 // missing depth near the car, noise and a crest.
 #include <cmath>
+#include <cstring>
+#include <vector>
 #include <functional>
 
 #include <Eigen/Geometry>
@@ -8,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "rgbd_lane_detector/road_surface.h"
+#include "simd.h"
 #include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
@@ -117,6 +120,42 @@ TEST(RoadSurface, FillFromRoadPlaneExtendsOnlyARoadSeenToContinue) {
   EXPECT_EQ(cv::countNonZero(filled), 0);
 }
 
+// The fill's rows are a kernel of every SIMD target: the same points (bits, NaN left alone) and
+// mask as the scalar target, on a width that leaves a tail of columns to the per-pixel code.
+TEST(RoadSurface, FillGivesTheSameBitsOnEveryTarget) {
+  Scene scene;
+  scene.boxes = {{-2.5, -0.8, 2.0, 5.0, 1.5}};
+  const int hole_row = kH * 3 / 4;
+  scene.hole = [hole_row](int u, int v) { return v > hole_row - (u % 7 == 0 ? 9 : 0); };
+  const cv::Mat full = scene.render();
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(full, kRows, settings(), PlaneEstimate(), plane));
+  const cv::Mat rendered = full(cv::Rect(0, 0, kW - 3, kH)).clone();
+  cv::Mat ref_pts, ref_filled;
+  int ref_count = -1;
+  const std::vector<simd::Target> targets = simd::availableTargets();  // the scalar one last
+  ASSERT_EQ(targets.back(), simd::kScalar);
+  for (auto it = targets.rbegin(); it != targets.rend(); ++it) {  // the scalar one first
+    const simd::Target target = *it;
+    SCOPED_TRACE(simd::targetName(target));
+    simd::forceTarget(target);
+    cv::Mat pts = rendered.clone(), filled;
+    const int count = road.extendToCamera(pts, kRows, kK, plane, 0.04, 0.0015, filled);
+    if (ref_count < 0) {
+      ref_pts = pts;
+      ref_filled = filled;
+      ref_count = count;
+      EXPECT_GT(count, (kW - 3) * (kH - hole_row - 1) / 2);  // the road below the hole
+      continue;
+    }
+    EXPECT_EQ(count, ref_count);
+    EXPECT_EQ(std::memcmp(pts.data, ref_pts.data, pts.total() * pts.elemSize()), 0);
+    EXPECT_EQ(std::memcmp(filled.data, ref_filled.data, filled.total()), 0);
+  }
+  simd::forceTarget(simd::kBest);
+}
+
 TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
   Scene scene;
   scene.noise = 0.02;
@@ -140,19 +179,34 @@ TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
 // A wet road that returns depth from its paint alone (two lines at x = +-1.7 m, 20 cm wide),
 // between 15 cm pavements from |x| = 2 m that return everywhere: the road holds a small share
 // of the depth.
-Scene wetRoadBetweenPavements() {
+// Where the ray of pixel (u, v) meets the road of @p scene: its lateral position x (m, right
+// positive); false above the horizon.
+bool roadLateral(const Scene& scene, int u, int v, double& x) {
+  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch);
+  const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
+  const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
+  if (!(w.y() > 1e-6)) return false;
+  x = w.x() * scene.height / w.y();
+  return true;
+}
+
+// A road that returns depth only from two painted lines at x = +-1.7 m (half width
+// @p paint_half) between |x| = 2 m and @p kerb high platforms beyond; rows below
+// @p blind_from (share of the image height) without depth.
+Scene wetRoadBetween(double kerb, double paint_half, double blind_from) {
   Scene scene;
-  scene.boxes = {{2.0, 100.0, 0.0, 200.0, 0.15}, {-100.0, -2.0, 0.0, 200.0, 0.15}};
-  const double c = std::cos(scene.pitch), sn = std::sin(scene.pitch), h = scene.height;
-  scene.hole = [c, sn, h](int u, int v) {
-    const Eigen::Vector3d ray((u - kK.cx) / kK.fx, (v - kK.cy) / kK.fy, 1.0);
-    const Eigen::Vector3d w(ray.x(), c * ray.y() + sn * ray.z(), -sn * ray.y() + c * ray.z());
-    if (!(w.y() > 1e-6)) return false;
-    const double x = w.x() * h / w.y();  // where the ray meets the road
-    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > 0.1;
+  scene.boxes = {{2.0, 100.0, 0.0, 200.0, kerb}, {-100.0, -2.0, 0.0, 200.0, kerb}};
+  const Scene geometry = scene;
+  scene.hole = [geometry, paint_half, blind_from](int u, int v) {
+    if (v > blind_from * kH) return true;
+    double x = 0.0;
+    if (!roadLateral(geometry, u, v, x)) return false;
+    return std::fabs(x) < 2.0 && std::fabs(std::fabs(x) - 1.7) > paint_half;
   };
   return scene;
 }
+
+Scene wetRoadBetweenPavements() { return wetRoadBetween(0.15, 0.1, 1.0); }
 
 TEST(RoadSurface, TheMountKeepsARoadSeenMostlyAsPaint) {
   // the vehicle's mount (its up axis and the camera's height above the road) is where the fit
@@ -196,6 +250,28 @@ TEST(RoadSurface, AMountOffTheRoadFallsBackToTheDepth) {
   ASSERT_TRUE(road.fit(scene.render(), kRows, s, PlaneEstimate(), plane));
   EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.2);
   EXPECT_NEAR(plane.distance, scene.height, 0.01);
+}
+
+TEST(RoadSurface, NotAPlaneThatTheRoadLiesBelow) {
+  // no depth in the bottom 30% of the rows (a LiDAR's blind zone, a bonnet), a wet road that
+  // returns only from its paint (lines at x = +-1.7 m), and 0.9 m high platforms from |x| = 2 m
+  // (a row of parked vans, a loading bay) that return everywhere: the platforms' top is a
+  // road-like plane 0.6 m below the camera holding most of the depth, but the road's paint lies
+  // beneath it, and nothing lies beneath a road
+  Scene scene = wetRoadBetween(0.9, 0.15, 0.7);
+  RoadSurface road;
+  PlaneEstimate plane;
+  // the road's paint alone holds too small a share of the depth to be the road: no plane
+  // rather than a wrong one (the platforms' top: 0.6 m, before)
+  if (road.fit(scene.render(), kRows, settings(), PlaneEstimate(), plane)) {
+    EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.5);
+    EXPECT_NEAR(plane.distance, scene.height, 0.03);
+  }
+  // with the road returning everywhere, the road
+  scene.hole = [](int, int v) { return v > kH * 7 / 10; };
+  ASSERT_TRUE(road.fit(scene.render(), kRows, settings(), PlaneEstimate(), plane));
+  EXPECT_LT(angleDeg(plane.normal, scene.normal()), 0.5);
+  EXPECT_NEAR(plane.distance, scene.height, 0.03);
 }
 
 TEST(RoadSurface, CrestEndsTheValidRange) {

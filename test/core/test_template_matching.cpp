@@ -236,5 +236,56 @@ TEST(NccMatcher, SparseImagesAfterADenseOneEqualAFreshMatcher) {
   simd::forceTarget(simd::kBest);
 }
 
+// The detector matches its two templates and, while a side acquires, both acquisition templates
+// in one pass: every map the same bits as its template matched alone (on every target), and
+// matchTemplate's scores; a pass of four and passes of two on one matcher in turn change nothing.
+TEST(NccMatcher, OnePassOfFourTemplatesEqualsEachTemplateAlone) {
+  cv::RNG rng(5);
+  cv::Mat img(140, 230, CV_8UC1, cv::Scalar(0));  // a half-binary road: lines, specks, a patch
+  cv::line(img, cv::Point(30, 139), cv::Point(100, 20), cv::Scalar(210), 7);
+  cv::line(img, cv::Point(200, 139), cv::Point(150, 10), cv::Scalar(180), 5);
+  for (int i = 0; i < 40; ++i)
+    img.at<uint8_t>(rng.uniform(0, 140), rng.uniform(0, 230)) =
+        static_cast<uint8_t>(rng.uniform(1, 256));
+  cv::Mat patch = img(cv::Rect(120, 60, 50, 40));
+  rng.fill(patch, cv::RNG::UNIFORM, 0, 256);
+  LineTemplate t[4];
+  makeLineTemplate(32, 10, 3 * M_PI / 4 + 0.12, t[0]);  // an adapted left side: slope q > 1
+  makeLineTemplate(32, 10, M_PI / 4, t[1]);
+  makeLineTemplate(32, 10, defaultLeftAngle(70.0), t[2]);  // acquisition templates
+  makeLineTemplate(32, 10, defaultRightAngle(70.0), t[3]);
+  LineTemplate same;  // a fourth template of the right template's slope: one shared table
+  makeLineTemplate(32, 6, M_PI / 4, same);
+  ASSERT_GT(t[0].slope_q, 1);
+  ASSERT_NE(t[2].slope_q, t[1].slope_q);
+  const cv::Rect region(2, 5, 225, 130);
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    SCOPED_TRACE(simd::targetName(target));
+    const LineTemplate* fourths[2] = {&t[3], &same};
+    for (const LineTemplate* fourth : fourths) {
+      const LineTemplate* all[4] = {&t[0], &t[1], &t[2], fourth};
+      NccMatcher both;  // passes of two, four, two, four as the detector while sides acquire
+      cv::Mat m[4];
+      cv::Mat* maps[4] = {&m[0], &m[1], &m[2], &m[3]};
+      ASSERT_TRUE(both.match(img, region, all, maps, 2));
+      ASSERT_TRUE(both.match(img, region, all, maps, 4));
+      ASSERT_TRUE(both.match(img, region, all, maps, 2));
+      ASSERT_TRUE(both.match(img, region, all, maps, 4));
+      for (int k = 0; k < 4; ++k) {
+        NccMatcher alone;
+        cv::Mat a, ref;
+        cv::Mat* one[1] = {&a};
+        ASSERT_TRUE(alone.match(img, region, &all[k], one, 1));
+        EXPECT_EQ(std::memcmp(m[k].data, a.data, a.total() * sizeof(float)), 0) << k;
+        matchTemplateReference(img, region, *all[k], ref);
+        EXPECT_LT(maxDiff(m[k], ref), 1e-4) << k;
+        EXPECT_GT(cv::countNonZero(m[k] > 0.3f), 0) << k;  // something matches each template
+      }
+    }
+  }
+  simd::forceTarget(simd::kBest);
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector

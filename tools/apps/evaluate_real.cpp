@@ -2,7 +2,7 @@
 // ../shared/realdata (test/data/realdata_labels.yaml and the other label files) with each depth
 // source the data offers (the LiDAR, and StereoSGBM where there is a right image), the frames
 // also in stress variants (real_variants.h), and compare each road plane with a RANSAC plane of
-// the LiDAR's road points. A sequence (frames that are not independent snapshots) runs in order
+// the LiDAR's road points (in a sequence, of the frames within 0.25 s). A sequence (frames that are not independent snapshots) runs in order
 // at its own stamps with tracking and the lane model, each frame scored, and the lane model's
 // ego boundaries scored too, with their frame-to-frame change. Writes a summary and per-frame
 // Markdown tables, a CSV and the overlays.
@@ -24,6 +24,7 @@
 #include "rgbd_lane_detector_tools/dataset/dataset.h"
 #include "rgbd_lane_detector_tools/dataset/real_variants.h"
 #include "rgbd_lane_detector_tools/detector_setup.h"
+#include "rgbd_lane_detector_tools/plane_check.h"
 #include "rgbd_lane_detector_tools/real_labels.h"
 
 using namespace rgbd_lane_detector;
@@ -48,29 +49,78 @@ struct Row {
   double c0[2] = {NAN, NAN};
 };
 
+// A reference road plane n . p + d = 0 (optical frame, n up).
+struct ReferencePlane {
+  bool valid = false;
+  Eigen::Vector3d normal = Eigen::Vector3d(0.0, -1.0, 0.0);
+  double distance = 0.0;
+};
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// The component-wise median of the valid planes among @p planes (invalid when there is none).
+ReferencePlane medianPlane(const std::vector<const ReferencePlane*>& planes) {
+  std::vector<double> nx, ny, nz, d;
+  for (const ReferencePlane* p : planes) {
+    if (!p->valid) continue;
+    nx.push_back(p->normal.x());
+    ny.push_back(p->normal.y());
+    nz.push_back(p->normal.z());
+    d.push_back(p->distance);
+  }
+  ReferencePlane m;
+  if (d.empty()) return m;
+  m.valid = true;
+  m.normal = Eigen::Vector3d(median(nx), median(ny), median(nz)).normalized();
+  m.distance = median(d);
+  return m;
+}
+
+// Frames of a sequence within this time of a frame share its LiDAR reference (s).
+constexpr double kReferenceWindow = 0.25;
+
+// The LiDAR reference plane of each frame of a sequence: a RANSAC plane of the road returns of
+// the frames within kReferenceWindow of it, together. One frame's few returns (a wet road in fog
+// returns almost only from its paint) can hold more points of a passing car than of the road, or
+// lie along one painted line; the road seen from the car does not turn within a quarter of a
+// second, and a car's points move between frames while the road's stay on one plane. The
+// detector's plane is still checked frame by frame against it.
+std::vector<ReferencePlane> sequenceReferences(const std::vector<tools::DatasetFrame>& frames) {
+  std::vector<std::vector<Eigen::Vector3d>> own(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) frames[i].referenceRoadPoints(own[i]);
+  std::vector<ReferencePlane> references(frames.size());
+  std::vector<Eigen::Vector3d> points;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i].has_road_plane) {  // the dataset's own
+      references[i].valid = frames[i].referenceRoadPlane(references[i].normal,
+                                                          references[i].distance);
+      continue;
+    }
+    points.clear();
+    for (size_t j = 0; j < frames.size(); ++j)
+      if (std::fabs(frames[j].stamp - frames[i].stamp) <= kReferenceWindow)
+        points.insert(points.end(), own[j].begin(), own[j].end());
+    references[i].valid =
+        tools::ransacPlane(points, 0.05, references[i].normal, references[i].distance);
+  }
+  return references;
+}
+
 // The camera mount a vehicle would have calibrated: the road frame of the median LiDAR road
 // plane over the sequence's frames (x forward on the road, z up, the origin on the road below
 // the camera).
-bool sequenceMount(const std::vector<tools::DatasetFrame>& frames, Eigen::Isometry3d& T) {
-  std::vector<double> nx, ny, nz, d;
-  for (const auto& f : frames) {
-    Eigen::Vector3d n;
-    double dist = 0.0;
-    if (!f.referenceRoadPlane(n, dist)) continue;
-    nx.push_back(n.x());
-    ny.push_back(n.y());
-    nz.push_back(n.z());
-    d.push_back(dist);
-  }
-  if (d.empty()) return false;
-  auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
+bool sequenceMount(const std::vector<ReferencePlane>& references, Eigen::Isometry3d& T) {
+  std::vector<const ReferencePlane*> all;
+  for (const ReferencePlane& r : references) all.push_back(&r);
+  const ReferencePlane m = medianPlane(all);
+  if (!m.valid) return false;
   PlaneEstimate plane;
   plane.valid = true;
-  plane.normal = Eigen::Vector3d(median(nx), median(ny), median(nz)).normalized();
-  plane.distance = median(d);
+  plane.normal = m.normal;
+  plane.distance = m.distance;
   T = RoadFrame::fromPlane(plane).roadFromCamera();
   return true;
 }
@@ -226,8 +276,10 @@ int main(int argc, char** argv) {
         std::cerr << "evaluate_real: " << reader->error() << "\n";
         return 1;
       }
+      const std::vector<ReferencePlane> references =
+          sequence ? sequenceReferences(frames) : std::vector<ReferencePlane>();
       Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
-      const bool have_mount = sequence && sequenceMount(frames, mount);
+      const bool have_mount = sequence && sequenceMount(references, mount);
       const std::vector<tools::RealVariant> run_variants =
           sequence ? std::vector<tools::RealVariant>{tools::RealVariant::kAsIs} : variants;
       for (const std::string& mode : modes_list) {
@@ -269,10 +321,18 @@ int main(int argc, char** argv) {
             row.sequence = sequence;
             row.lane = label->lane;
             row.ms = result.timings.total;
-            // reference plane: RANSAC on the LiDAR (or the sensor's) road points
+            // reference plane: RANSAC on the LiDAR (or the sensor's) road points; in a
+            // sequence the median over the frames around (sequenceReferences())
             Eigen::Vector3d n(0, -1, 0);
             double d = 0.0;
-            const bool have_plane = f.referenceRoadPlane(n, d);
+            bool have_plane = false;
+            if (sequence) {
+              have_plane = references[i].valid;
+              n = references[i].normal;
+              d = references[i].distance;
+            } else {
+              have_plane = f.referenceRoadPlane(n, d);
+            }
             // the plane check: frames with a LiDAR (an RGB-D sensor's own depth is no reference)
             row.have_reference = have_plane && (!f.lidar_depth.empty() || f.has_road_plane);
             if (label->lane && !have_plane) {

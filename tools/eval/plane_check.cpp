@@ -61,7 +61,7 @@ PlaneResiduals planeResiduals(const std::vector<Eigen::Vector3d>& points,
 }
 
 bool ransacPlane(const std::vector<Eigen::Vector3d>& points, double inlier_distance,
-                 Eigen::Vector3d& normal, double& distance) {
+                 Eigen::Vector3d& normal, double& distance, double min_spread) {
   const size_t n = points.size();
   if (n < 50) return false;
   std::mt19937 rng(12345u);
@@ -96,6 +96,11 @@ bool ransacPlane(const std::vector<Eigen::Vector3d>& points, double inlier_dista
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const auto* p : in) cov += (*p - mean) * (*p - mean).transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  // inliers along one line (a wet road returning only from one painted line) leave the plane
+  // free to turn about that line: the spread across it must fix the plane
+  if (std::sqrt(std::max(0.0, es.eigenvalues()(1) / static_cast<double>(in.size()))) <
+      min_spread)
+    return false;
   normal = es.eigenvectors().col(0).normalized();
   distance = -normal.dot(mean);
   if (distance < 0) {  // toward the camera: the origin lies on the positive side

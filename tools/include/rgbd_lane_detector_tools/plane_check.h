@@ -43,10 +43,14 @@ PlaneResiduals planeResiduals(const std::vector<Eigen::Vector3d>& points,
 /**
  * @brief Reference plane of the points by RANSAC (fixed seed) plus a least-squares refit on
  * the inliers, oriented toward the camera.
- * @return false with fewer than 50 points or no plane holding 30% of them.
+ * @param[in] min_spread the inliers' standard deviation along their second principal axis
+ * must reach this (m): inliers along one line (the returns of a single painted line on a wet
+ * road) do not fix the plane's tilt about that line.
+ * @return false with fewer than 50 points, no plane holding 30% of them, or inliers spread
+ * less than @p min_spread across their main axis.
  */
 bool ransacPlane(const std::vector<Eigen::Vector3d>& points, double inlier_distance,
-                 Eigen::Vector3d& normal, double& distance);
+                 Eigen::Vector3d& normal, double& distance, double min_spread = 0.5);
 
 }  // namespace tools
 }  // namespace rgbd_lane_detector
