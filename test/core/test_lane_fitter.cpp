@@ -22,12 +22,15 @@ PlaneEstimate road() {
   return p;
 }
 
-// A traced line at lateral x (camera x, right) on the level road, 4-30 m ahead, with its depth.
-BoundaryCandidate line(double x, BoundaryKind kind, bool boundary = true, float margin = 0.8f) {
+// A traced paint line on the level road, 4-30 m ahead, with its depth; @p x_at: its camera x
+// (right) at range z.
+template <typename LateralAt>
+BoundaryCandidate tracedLine(LateralAt x_at) {
   BoundaryCandidate c;
   c.trace.peak_score = 1.2f;
   c.trace.angle_valid = true;
   for (double z = 4.0; z <= 30.0; z *= 1.1) {
+    const double x = x_at(z);
     c.trace.pixels.emplace_back(static_cast<float>(kK.fx * x / z + kK.cx),
                                 static_cast<float>(kK.fy * kHeight / z + kK.cy));
     c.trace.points.emplace_back(static_cast<float>(x), static_cast<float>(kHeight),
@@ -37,6 +40,15 @@ BoundaryCandidate line(double x, BoundaryKind kind, bool boundary = true, float 
   c.trace.num_valid_points = static_cast<int>(c.trace.points.size());
   c.trace.seed = c.trace.pixels.front();
   c.trace.seed_point = c.trace.points.front();
+  c.evidence.boundary = true;
+  c.evidence.kind = BoundaryKind::kPaint;
+  c.evidence.margin = 0.8f;
+  return c;
+}
+
+// A traced line at lateral x (camera x, right) on the level road, 4-30 m ahead, with its depth.
+BoundaryCandidate line(double x, BoundaryKind kind, bool boundary = true, float margin = 0.8f) {
+  BoundaryCandidate c = tracedLine([x](double) { return x; });
   c.evidence.boundary = boundary;
   c.evidence.kind = kind;
   c.evidence.margin = margin;
@@ -164,24 +176,7 @@ TEST(LaneFitter, TrackedBoundaryBeforeANewNearerLine) {
 // A traced paint line at lateral y0 (RoadFrame y, left) at the camera and heading slope (dy/dz),
 // 4-30 m ahead on the level road (camera x = -y).
 BoundaryCandidate slanted(double y0, double slope) {
-  BoundaryCandidate c;
-  c.trace.peak_score = 1.2f;
-  c.trace.angle_valid = true;
-  for (double z = 4.0; z <= 30.0; z *= 1.1) {
-    const double x = -(y0 + slope * z);
-    c.trace.pixels.emplace_back(static_cast<float>(kK.fx * x / z + kK.cx),
-                                static_cast<float>(kK.fy * kHeight / z + kK.cy));
-    c.trace.points.emplace_back(static_cast<float>(x), static_cast<float>(kHeight),
-                                static_cast<float>(z));
-    c.trace.scores.push_back(1.0f);
-  }
-  c.trace.num_valid_points = static_cast<int>(c.trace.points.size());
-  c.trace.seed = c.trace.pixels.front();
-  c.trace.seed_point = c.trace.points.front();
-  c.evidence.boundary = true;
-  c.evidence.kind = kPaint;
-  c.evidence.margin = 0.8f;
-  return c;
+  return tracedLine([y0, slope](double z) { return -(y0 + slope * z); });
 }
 
 // Mean lateral distance (m) of a side's reported points from the line y = y0 + slope z.
