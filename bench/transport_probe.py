@@ -50,6 +50,7 @@ def main():
                             "callback_ms": float(v.get("Mean processing time (ms)", "nan")),
                             "detect_ms": float(v.get("Mean detector time (ms)", "nan")),
                             "max_ms": float(v.get("Max processing time (ms)", "nan")),
+                            "max_cpu_ms": float(v.get("Max processing CPU time (ms)", "nan")),
                         })
                 except ValueError:
                     pass

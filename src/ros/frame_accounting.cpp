@@ -69,7 +69,8 @@ void FrameAccounting::restartSequence() {
 }
 
 void FrameAccounting::synchronised(const void* id, int64_t stamp_ns, FrameOutcome outcome,
-                                   const char* detail, double callback_ms, double detect_ms) {
+                                   const char* detail, double callback_ms, double detect_ms,
+                                   double callback_cpu_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
   Report& c = counts_;
   ++c.synchronised;
@@ -98,6 +99,7 @@ void FrameAccounting::synchronised(const void* id, int64_t stamp_ns, FrameOutcom
       c.window_callback_ms += callback_ms;
       c.window_detect_ms += detect_ms;
       c.window_max_ms = std::max(c.window_max_ms, callback_ms);
+      c.window_max_cpu_ms = std::max(c.window_max_cpu_ms, callback_cpu_ms);
       return;
     case FrameOutcome::kSkipped:
       ++c.skipped;
@@ -136,6 +138,7 @@ FrameAccounting::Report FrameAccounting::report() {
   r.waiting = pending_count_;
   counts_.window_processed = counts_.window_dropped = 0;
   counts_.window_callback_ms = counts_.window_detect_ms = counts_.window_max_ms = 0.0;
+  counts_.window_max_cpu_ms = 0.0;
   return r;
 }
 

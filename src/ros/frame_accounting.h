@@ -74,6 +74,9 @@ class FrameAccounting {
     double window_callback_ms = 0.0;     ///< sum of whole-callback times in the window
     double window_detect_ms = 0.0;       ///< sum of core detect() times in the window
     double window_max_ms = 0.0;          ///< slowest callback in the window
+    /// Largest CPU time of a callback's thread in the window: far below window_max_ms, the
+    /// slowest callback waited for a core (other processes, threads) rather than computed
+    double window_max_cpu_ms = 0.0;
 
     /// @return received minus every state it is split into (0 when the rule holds)
     int64_t unaccounted() const;
@@ -98,9 +101,11 @@ class FrameAccounting {
    * @param[in] detail drop reason text (kBadMessage, kInvalidFrame); null or "" = outcomeText()
    * @param[in] callback_ms time of the whole frame callback (processed frames)
    * @param[in] detect_ms time of the core's detect() (processed frames)
+   * @param[in] callback_cpu_ms CPU time of the callback's thread during it (processed frames)
    */
   void synchronised(const void* id, int64_t stamp_ns, FrameOutcome outcome,
-                    const char* detail = nullptr, double callback_ms = 0.0, double detect_ms = 0.0);
+                    const char* detail = nullptr, double callback_ms = 0.0, double detect_ms = 0.0,
+                    double callback_cpu_ms = 0.0);
 
   /**
    * @brief The counters now; starts a new window.

@@ -81,7 +81,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     in.frame = [this](const sensor_msgs::ImageConstPtr& colour,
                       const sensor_msgs::ImageConstPtr& depth,
                       const sensor_msgs::CameraInfoConstPtr& info) {
-      const auto start = std::chrono::steady_clock::now();
+      const NodeDiagnostics::CallbackStart start = NodeDiagnostics::CallbackStart::now();
       const char* detail = nullptr;
       const FrameOutcome outcome = processFrame(*colour, *depth, *info, detail);
       diagnostics_->synchronised(*colour, outcome, detail, start, processor_.result().timings.total);

@@ -1,5 +1,7 @@
 #include "node_diagnostics.h"
 
+#include <time.h>
+
 #include <algorithm>
 
 namespace rgbd_lane_detector {
@@ -39,6 +41,13 @@ void processingStatus(const FrameAccounting::Report& r, bool subscribed,
   stat.addf("Mean detector time (ms)", "%.3f", r.window_detect_ms / n);
   stat.addf("Mean ROS overhead (ms)", "%.3f", (r.window_callback_ms - r.window_detect_ms) / n);
   stat.addf("Max processing time (ms)", "%.3f", r.window_max_ms);
+  stat.addf("Max processing CPU time (ms)", "%.3f", r.window_max_cpu_ms);
+}
+
+double NodeDiagnostics::threadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 NodeDiagnostics::NodeDiagnostics(ros::NodeHandle& nh, ros::NodeHandle& pnh,

@@ -45,13 +45,23 @@ class NodeDiagnostics {
     accounting_.received(&colour, static_cast<int64_t>(colour.header.stamp.toNSec()),
                          colour.header.seq);
   }
+  /// When a frame callback started: the steady clock, and the CPU time of its thread.
+  struct CallbackStart {
+    std::chrono::steady_clock::time_point wall;
+    double cpu_ms;
+    static CallbackStart now() { return {std::chrono::steady_clock::now(), threadCpuMs()}; }
+  };
+  /// CPU time of the calling thread (ms).
+  static double threadCpuMs();
+
   /// The synchronised set of @p colour met its fate (@p detail names a drop's problem); its
   /// callback started at @p start, detect() took @p detect_ms.
   void synchronised(const sensor_msgs::Image& colour, FrameOutcome outcome, const char* detail,
-                    std::chrono::steady_clock::time_point start, double detect_ms) {
-    const std::chrono::duration<double, std::milli> ms = std::chrono::steady_clock::now() - start;
+                    const CallbackStart& start, double detect_ms) {
+    const std::chrono::duration<double, std::milli> ms =
+        std::chrono::steady_clock::now() - start.wall;
     accounting_.synchronised(&colour, static_cast<int64_t>(colour.header.stamp.toNSec()), outcome,
-                             detail, ms.count(), detect_ms);
+                             detail, ms.count(), detect_ms, threadCpuMs() - start.cpu_ms);
   }
   /// A frame was published with this stamp.
   void tick(const ros::Time& stamp) { rate_->tick(stamp); }

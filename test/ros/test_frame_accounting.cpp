@@ -36,7 +36,8 @@ TEST(FrameAccounting, ProcessedFramesAreCountedWithTheirTimes) {
   FrameAccounting a;
   for (size_t i = 0; i < 3; ++i) {
     a.received(idOf(i), 1000 + i, static_cast<uint32_t>(i));
-    a.synchronised(idOf(i), 1000 + i, FrameOutcome::kProcessed, nullptr, 2.0 + i, 1.0);
+    a.synchronised(idOf(i), 1000 + i, FrameOutcome::kProcessed, nullptr, 2.0 + i, 1.0,
+                   i == 1 ? 3.5 : 1.5);
   }
   const Report r = a.report();
   EXPECT_EQ(r.received, 3u);
@@ -48,12 +49,15 @@ TEST(FrameAccounting, ProcessedFramesAreCountedWithTheirTimes) {
   EXPECT_DOUBLE_EQ(r.window_callback_ms, 2.0 + 3.0 + 4.0);
   EXPECT_DOUBLE_EQ(r.window_detect_ms, 3.0);
   EXPECT_DOUBLE_EQ(r.window_max_ms, 4.0);
+  // the largest CPU time, whichever callback it was (not the slowest one's: that one waited)
+  EXPECT_DOUBLE_EQ(r.window_max_cpu_ms, 3.5);
   // the next report starts a new window and keeps the cumulative counters
   const Report next = a.report();
   EXPECT_EQ(next.processed, 3u);
   EXPECT_EQ(next.window_processed, 0u);
   EXPECT_DOUBLE_EQ(next.window_callback_ms, 0.0);
   EXPECT_DOUBLE_EQ(next.window_max_ms, 0.0);
+  EXPECT_DOUBLE_EQ(next.window_max_cpu_ms, 0.0);
 }
 
 TEST(FrameAccounting, ImagesPassedOverAreNotSynchronisedAndLaterOnesWait) {

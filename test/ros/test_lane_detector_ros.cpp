@@ -737,6 +737,11 @@ TEST(LaneDetectorRos, DiagnosticsReportRateAndProcessingTime) {
   EXPECT_GT(value(processing, "Mean detector time (ms)"), 0.0);
   EXPECT_GE(value(processing, "Max processing time (ms)"),
             value(processing, "Mean processing time (ms)"));
+  // one thread's CPU time within a callback is at most the callback's wall time (both printed
+  // to 1 us)
+  EXPECT_GT(value(processing, "Max processing CPU time (ms)"), 0.0);
+  EXPECT_LE(value(processing, "Max processing CPU time (ms)"),
+            value(processing, "Max processing time (ms)") + 0.001);
   EXPECT_GT(value(rate, "Actual frequency (Hz)"), 0.0) << "no output-rate diagnostics";
   for (const auto& kv : processing.values)
     std::printf("  [diagnostics, all outputs] %s: %s\n", kv.key.c_str(), kv.value.c_str());
