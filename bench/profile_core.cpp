@@ -3,6 +3,10 @@
 // (Google Benchmark picks its own iteration counts, which makes callgrind totals hard to compare.)
 // A real corpus frame (bench/real_inputs.h) in the default mode, CPU time and stage timings:
 //   perf record -g profile_core real pandaset 300
+// The frames measure_transport.sh plays (the real RADIATE drive, resized, in a loop) in the
+// default mode: the spread of each frame's CPU time, which bounds a stream's latency tail:
+//   profile_core sequence 1920x1080 600
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -23,6 +27,7 @@
 #include "rgbd_lane_detector/template_matching.h"
 #ifdef RLD_PROFILE_REAL_FRAMES  // the catkin build: the tools' dataset readers
 #include "real_inputs.h"
+#include "frame_source.h"  // tools/ros: the frames FramePlayerNodelet publishes
 #endif
 #include "road_frames.h"
 #include "simd.h"
@@ -101,14 +106,88 @@ int profileReal(const std::string& label, int n, const Params& params, Clock cpu
 #endif
 }
 
+// The default mode over the frames FramePlayerNodelet publishes (tools/ros/frame_source.h: the
+// real RADIATE drive resized to @p size, in a loop, as measure_transport.sh plays it), one detector
+// as in a stream: each frame's CPU time (this thread), after one pass of warm-up.
+int profileSequence(const std::string& size, int n) {
+#ifndef RLD_PROFILE_REAL_FRAMES
+  (void)size, (void)n;
+  std::fprintf(stderr, "sequence: this build has no dataset readers (the catkin build has)\n");
+  return 2;
+#else
+  tools::FrameSourceOptions options;
+  if (std::sscanf(size.c_str(), "%dx%d", &options.width, &options.height) != 2 ||
+      options.width <= 0 || options.height <= 0 || n <= 0) {
+    std::fprintf(stderr, "sequence: size WIDTHxHEIGHT and N > 0, not %s %d\n", size.c_str(), n);
+    return 2;
+  }
+  std::vector<tools::DatasetFrame> data;
+  std::string source, warning;
+  tools::loadFrameSource(options, data, source, warning);
+  if (data.empty()) {
+    std::fprintf(stderr, "sequence: no frames (%s)\n", warning.c_str());
+    return 2;
+  }
+  std::vector<Frame> frames;
+  for (const tools::DatasetFrame& d : data) frames.push_back(d.toFrame());
+  auto thread_ms = [] {
+    timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+  };
+  LaneDetector det{Params()};
+  Result r;
+  const int m = static_cast<int>(frames.size());
+  for (int i = 0; i < m; ++i) det.detect(frames[i], r);  // warm-up: one pass
+  std::vector<double> ms(static_cast<size_t>(n));
+  measured(n, [&](int i) {
+    const double start = thread_ms();
+    det.detect(frames[i % m], r);
+    ms[static_cast<size_t>(i)] = thread_ms() - start;
+  });
+  double sum = 0.0;
+  for (double v : ms) sum += v;
+  const int worst = static_cast<int>(std::max_element(ms.begin(), ms.end()) - ms.begin());
+  const double max = ms[static_cast<size_t>(worst)];
+  std::vector<double> sorted = ms;
+  std::sort(sorted.begin(), sorted.end());
+  auto pct = [&](double q) {
+    return sorted[std::min(sorted.size() - 1, static_cast<size_t>(q * (sorted.size() - 1) + 0.5))];
+  };
+  const double mean = sum / n;
+  // the frames of the loop that cost most on every pass (the scene, not the machine's noise):
+  // each position's median over the passes
+  int costliest = 0;
+  double costliest_ms = 0.0;
+  for (int k = 0; k < m; ++k) {
+    std::vector<double> at;
+    for (int i = k; i < n; i += m) at.push_back(ms[static_cast<size_t>(i)]);
+    if (at.empty()) continue;
+    std::nth_element(at.begin(), at.begin() + at.size() / 2, at.end());
+    if (at[at.size() / 2] > costliest_ms) {
+      costliest_ms = at[at.size() / 2];
+      costliest = k;
+    }
+  }
+  std::printf("sequence %s (%s, %d frames in a loop, scale %.3f) x%d on %s: CPU ms per frame mean "
+              "%.3f p50 %.3f p99 %.3f max %.3f (frame %d of the loop), p99/mean %.2f; costliest "
+              "frame of the loop (median over the passes) %d: %.3f ms, %.2f x the mean\n",
+              size.c_str(), source.c_str(), m, r.scale, n,
+              simd::targetName(simd::currentTarget()), mean, pct(0.5), pct(0.99), max,
+              worst % m, pct(0.99) / mean, costliest, costliest_ms, costliest_ms / mean);
+  return 0;
+#endif
+}
+
 int main(int argc, char** argv) {
   if (argc < 4) {
     std::fprintf(
         stderr,
         "usage: %s detect|improved|halfbinary|points|normals|normals_only|matching|response|targets WIDTH N "
         "[TARGET (AVX3, AVX2, SSE4, NEON, scalar)]\n"
-        "       %s real radiate_fog|kitti|nuscenes|pandaset|dgp N [TARGET] [param=value ...]\n",
-        argv[0], argv[0]);
+        "       %s real radiate_fog|kitti|nuscenes|pandaset|dgp N [TARGET] [param=value ...]\n"
+        "       %s sequence WIDTHxHEIGHT N [TARGET]\n",
+        argv[0], argv[0], argv[0]);
     return 2;
   }
   const std::string stage = argv[1];
@@ -145,6 +224,7 @@ int main(int argc, char** argv) {
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
   };
   if (stage == "real") return profileReal(argv[2], n, real_params, cpu_ms);
+  if (stage == "sequence") return profileSequence(argv[2], n);
   const int width = std::atoi(argv[2]);
   std::vector<bench::RoadFrame> frames(4);
   for (int i = 0; i < 4; ++i) bench::renderRoadFrame(width, width * 380 / 640, i, frames[i]);

@@ -59,6 +59,16 @@ if [ -x "$PROFILE" ]; then
   done
 fi
 
+# Each frame's CPU time over the looped drive measure_transport.sh plays (profile_core sequence):
+# the scene's own spread of the work, beside the stream's latency tail.
+SEQUENCE_CPU=$OUT/sequence_cpu.txt
+: > "$SEQUENCE_CPU"
+if [ -x "$PROFILE" ]; then
+  for size in 640x480 1280x720 1920x1080; do
+    "$PROFILE" sequence "$size" 600 2> /dev/null | tail -n 1 >> "$SEQUENCE_CPU" || true
+  done
+fi
+
 # What the nodelet adds over detect(), and its peak RSS (bench/measure_nodelet.sh).
 NODELET=()
 if [ "${BENCH_NODELET:-1}" != 0 ] && command -v roscore > /dev/null; then
@@ -81,6 +91,6 @@ if [ "${BENCH_TRANSPORT:-1}" != 0 ] && command -v roscore > /dev/null; then
 fi
 
 /usr/bin/python3 "$ROOT/scripts/bench_report.py" --json "$OUT/bench.json" "${NODELET[@]}" "${TRANSPORT[@]}" \
-  --rss-kb "${RSS_KB:-0}" --stages-by-target "$STAGES_BY_TARGET" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
+  --rss-kb "${RSS_KB:-0}" --stages-by-target "$STAGES_BY_TARGET" --sequence-cpu "$SEQUENCE_CPU" --commit "$(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')" \
   --out "$ROOT/docs/PERFORMANCE.md" --plot "$ROOT/docs/performance.png"
 echo "bench: wrote docs/PERFORMANCE.md and docs/performance.png"

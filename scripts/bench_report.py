@@ -238,6 +238,8 @@ def main():
                     help="a result line of bench/measure_nodelet.sh")
     ap.add_argument("--transport", default="",
                     help="results.md of bench/measure_transport.sh (frames on the way in)")
+    ap.add_argument("--sequence-cpu", default="",
+                    help="profile_core sequence result lines (each frame's CPU time in a loop)")
     a = ap.parse_args()
     ctx, runs = load(a.json)
     if not runs:
@@ -569,6 +571,33 @@ def main():
     else:
         L.append("Not measured in this run (`BENCH_TRANSPORT=0`, no ROS, or no "
                  "../shared/realdata): `bench/measure_transport.sh`, bench/TRANSPORT.md.")
+    seq = []
+    if a.sequence_cpu and os.path.exists(a.sequence_cpu):
+        pat = (r"sequence (\S+) \(.*?, (\d+) frames in a loop, scale ([0-9.]+)\) x(\d+) on (\w+): "
+               r"CPU ms per frame mean ([0-9.]+) p50 ([0-9.]+) p99 ([0-9.]+) max ([0-9.]+) .*?"
+               r"costliest frame of the loop \(median over the passes\) (\d+): ([0-9.]+) ms")
+        for line in open(a.sequence_cpu):
+            m = re.search(pat, line)
+            if m:
+                seq.append(m.groups())
+    if seq:
+        L.append("")
+        L.append("The same frames without ROS (`profile_core sequence WIDTHxHEIGHT N`: one "
+                 "detector over the looped drive as the player sends it, default mode, one thread, "
+                 "each frame's CPU time of its thread after one pass of warm-up). The costliest "
+                 "frame of the loop, by its median over the passes, is what the scene asks for; "
+                 "p99 above it is the machine (other processes' cache and memory traffic, the "
+                 "virtual CPU's neighbours), which the callback's wall time then adds its waits to:")
+        L.append("")
+        L.append("| size | frames x passes | scale | mean ms | p50 ms | p99 ms | max ms | p99 / mean "
+                 "| costliest frame's median ms | / mean |")
+        L.append("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+        for size, frames, scale, n, target, mean, p50, p99, mx, k, kms in seq:
+            mean_f = float(mean)
+            L.append(f"| {size} | {frames} x {int(n) // int(frames)} | {float(scale):.2f} | "
+                     f"{mean_f:.2f} | {float(p50):.2f} | {float(p99):.2f} | {float(mx):.2f} | "
+                     f"{float(p99) / mean_f:.2f} | {float(kms):.2f} | "
+                     f"{float(kms) / mean_f:.2f} |")
     L.append("")
 
     L.append("## How the core gets there")
