@@ -163,10 +163,13 @@ class BoundaryCandidateFinder {
   bool runsAhead(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels) const;
   /// Stretches of a followed line (input pixels, near to far) separated by more than @p gap
   /// metres of road without a row found; @p extent: metres from its nearest to its farthest row,
-  /// @p painted: metres of it the stretches cover; rows beyond @p max_forward are not counted.
+  /// @p painted: metres of it the stretches cover; @p rows_cover: metres of it the rows found
+  /// cover, each up to the next one but at most its own spacing (kRowCell and one image row);
+  /// rows beyond @p max_forward are not counted.
   int paintStretches(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels, double gap,
                      double* extent = nullptr, double* painted = nullptr,
-                     double max_forward = std::numeric_limits<double>::infinity()) const;
+                     double max_forward = std::numeric_limits<double>::infinity(),
+                     double* rows_cover = nullptr) const;
   /// A narrow band taken for a rail head that comes in dashes when followed: worn paint.
   void dashedNarrowLine(const CandidateFrame& f, int side, BoundaryCandidate& c);
   /// Road edges the depth shows (RoadEdgeFinder) that no traced line found.

@@ -23,6 +23,12 @@ constexpr double kDashGap = 2.0;       // m without a narrow band between two da
 constexpr int kMinDashes = 2;          // dashes that tell worn paint from a rail ...
 constexpr double kMaxDashCoverage = 0.6;  // ... where they cover at most this share of the line
 constexpr double kDashRange = 25.0;    // m ahead within which the dashes are counted
+// Raised pavement markers between worn dashes join them into one stretch (kDashGap): a line that
+// measures paint width on at least kWornPaintRows of its rows (no rail head, seam or crack does)
+// is covered where its rows are found, each row standing for at most kRowCell of road more
+// than its image row (the follower measures rows about that far apart)
+constexpr double kWornPaintRows = 0.25;
+constexpr double kRowCell = 0.1;
 constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
 constexpr double kEdgeReach = 0.3;   // m: a traced road edge this near a depth edge is the same
 constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
@@ -104,11 +110,11 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
 
 int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
                                             const std::vector<cv::Point2f>& pixels, double gap,
-                                            double* extent, double* painted,
-                                            double max_forward) const {
+                                            double* extent, double* painted, double max_forward,
+                                            double* rows_cover) const {
   int stretches = 0;
   double near_f = std::numeric_limits<double>::infinity(), far_f = -near_f, last_f = 0.0;
-  double start_f = 0.0, covered = 0.0;
+  double start_f = 0.0, covered = 0.0, cells = 0.0, last_cell = 0.0;
   const RoadFrame& frame = classifier_input_.frame;
   for (const auto& px : pixels) {  // near to far
     Eigen::Vector2d q, q1;
@@ -120,6 +126,8 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
     const double row_m = roadCoordinates(f, frame, px.x, px.y - 1.0, q1)
                              ? std::fabs(q1.x() - fwd)
                              : std::numeric_limits<double>::infinity();
+    if (stretches > 0) cells += std::min(last_cell, std::fabs(fwd - last_f));
+    last_cell = kRowCell + (std::isfinite(row_m) ? row_m : 0.0);
     if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {
       if (stretches > 0) covered += std::fabs(last_f - start_f);
       ++stretches;
@@ -132,6 +140,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   if (stretches > 0) covered += std::fabs(last_f - start_f);
   if (extent) *extent = stretches > 0 ? far_f - near_f : 0.0;
   if (painted) *painted = covered;
+  if (rows_cover) *rows_cover = cells;
   return stretches;
 }
 
@@ -181,7 +190,12 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
     seed_points_.resize(seed_pixels_.size());
   // within kDashRange, where a rail head is resolved on every row (farther, any thin line
   // breaks up)
-  const int dashes = paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange);
+  double rows_cover = 0.0;
+  const int dashes =
+      paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange, &rows_cover);
+  // raised markers between worn dashes join them into stretches: on a line that measures paint
+  // width on enough of its rows (no rail head, seam or crack does), the rows found tell the cover
+  if (c.evidence.paint_rows >= kWornPaintRows * c.evidence.rows) painted = rows_cover;
   if (dashes < kMinDashes || painted > kMaxDashCoverage * extent) return;
   c.trace.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
   c.trace.points.assign(seed_points_.begin(), seed_points_.end());

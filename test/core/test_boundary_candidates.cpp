@@ -1,6 +1,7 @@
 // Candidate boundaries of a frame: lines traced from a response map, best seed first, the next
 // seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
-// narrow line told as a rail head or as worn dashed paint.
+// narrow line told as a rail head or as worn dashed paint (also where raised markers join its
+// dashes).
 #include <cmath>
 #include <functional>
 
@@ -121,13 +122,15 @@ TEST(BoundaryCandidateFinder, NothingAboveTheTraceThreshold) {
   }
 }
 
-// A narrow bright band (5 cm, a rail head's width) 1.8 m left of the camera on a level road,
-// painted where @p painted(z) holds, traced from its response from 4 m to @p traced m ahead and
-// classified: the left side's first candidate.
-BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced) {
+// A narrow bright band (5 cm, a rail head's width, or @p width(z) m) 1.8 m left of the camera
+// on a level road, painted where @p painted(z) holds, traced from its response from 4 m to
+// @p traced m ahead and classified: the left side's first candidate.
+BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced,
+                             const std::function<double(double)>& width = nullptr) {
   test::CrossSection cs;
-  cs.colour = [painted](double x, double z) {
-    return std::fabs(x + 1.8) < 0.025 && painted(z) ? test::grey(235) : test::grey(80);
+  cs.colour = [painted, width](double x, double z) {
+    const double half = 0.5 * (width ? width(z) : 0.05);
+    return std::fabs(x + 1.8) < half && painted(z) ? test::grey(235) : test::grey(80);
   };
   test::RenderedRoad road;
   road.render(cs);
@@ -186,6 +189,39 @@ TEST(BoundaryCandidateFinder, NarrowLineOfWornDashesIsPaint) {
   EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
   ASSERT_FALSE(c.trace.pixels.empty());
   for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
+}
+
+// Worn dashes with raised markers between them: a dash from 4 to 6 m, nothing for 2.5 m, markers
+// 0.1 m long every metre from 8.5 to 11.5 m, a dash from 12 to 14 m; the line's band is 12 cm wide
+// (paint) on its first @p paint_width m, 5 cm (a worn dash's core) elsewhere. The markers join
+// the dash gap into one stretch (gaps shorter than 2 m), which covers 73% of the line: only the
+// rows found (48%) tell the dashes.
+BoundaryCandidate wornDashesWithMarkers(double paint_width) {
+  return narrowLine(
+      [](double z) {
+        return (z >= 4.0 && z < 6.0) || (z >= 8.5 && z < 11.5 && std::fmod(z - 8.5, 1.0) < 0.1) ||
+               (z >= 12.0 && z < 14.0);
+      },
+      6.0, [paint_width](double z) { return z < 4.0 + paint_width ? 0.12 : 0.05; });
+}
+
+TEST(BoundaryCandidateFinder, WornDashesJoinedByMarkersArePaint) {
+  // paint width on about a third of the traced rows (a worn dash's best-kept part)
+  const BoundaryCandidate c = wornDashesWithMarkers(0.4);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
+  ASSERT_FALSE(c.trace.pixels.empty());
+  for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
+  EXPECT_GE(test::roadForward(c.trace.pixels.back()), 12.0);  // followed across the markers
+}
+
+TEST(BoundaryCandidateFinder, NarrowLineWithoutPaintWidthJoinedByMarkersIsARailHead) {
+  // the same line no row of which measures paint width (a rail head, a seam): its stretches
+  // tell its cover, as before
+  const BoundaryCandidate c = wornDashesWithMarkers(0.0);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kRoadEdge) << c.evidence.reason;
 }
 
 }  // namespace
