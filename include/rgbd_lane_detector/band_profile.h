@@ -65,6 +65,8 @@ class BandProfile {
    * @brief Profile of the row through @p c across the line: the backgrounds and colours of both
    * sides, the brightest pixel near the line and, where the pixels resolve widths, the nearest
    * bands of paint width, narrower and wider (widths across the line: times @p cos_heading).
+   * Where a pixel spans a few millimetres of road, the profile is averaged over a centimetre and a
+   * half (a line's texture is not its width).
    * @return false where the row is not measurable (off the road, too far, at the image border).
    */
   bool measureRow(const ClassifierInput& in, const cv::Point2f& c, bool left, const Params& p,

@@ -5,8 +5,9 @@
  *
  * Paint lies flat on the road surface (within a few centimetres) and is a bright band, brighter
  * than the asphalt on both sides, 7-45 cm wide (single and double lines). A road edge is a
- * height step (kerb, guard-rail foot: the surface beyond it is raised), or a narrow bright
- * line that is not paint (a rail head is 4-7 cm), or a change of surface (asphalt to grass:
+ * height step (kerb, guard-rail foot: the surface beyond it is raised above the road that the
+ * depth measures on the vehicle's side), or a narrow bright line that is not paint and that the
+ * depth places on the road (a rail head is 4-7 cm), or a change of surface (asphalt to grass:
  * the colour changes, not only the brightness; a shadow's edge also changes the colour, but
  * toward blue on its dark side, lit by the sky, and is not taken for an edge). Anything well
  * above the road (a truck's stripe, a guard rail's beam) and anything wider than paint (a zebra

@@ -18,6 +18,11 @@ constexpr double kEdgeFill = 0.75;         // share of kEdgeRun that is not road
 constexpr float kMadToSigma = 1.4826f;     // median absolute deviation to a Gaussian's sigma
 constexpr float kNoiseSigmas = 3.0f;       // a band stands this many noise sigmas above the road
 constexpr size_t kMinNoiseSamples = 5;     // side pixels a row's noise is estimated from
+// m of road across which the profile is averaged where the pixels are finer: near the camera a
+// pixel spans a few millimetres, and a painted line's texture (worn paint, the aggregate showing
+// through, raised markers) dips between its bright grains deeper than half their contrast,
+// splitting one line into bands narrower than paint (a rail head stays one, 4-7 cm wide)
+constexpr double kTextureScale = 0.015;
 
 }  // namespace
 
@@ -92,7 +97,24 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
   const ImageRow row(in, m.v);
   if (!row.valid()) return false;
   profile_.resize(2 * m.W + 1);
-  for (int k = -m.W; k <= m.W; ++k) profile_[k + m.W] = row.grey(m.u0 + k);
+  // each profile pixel the mean grey over kTextureScale of road (a box of 2 h + 1 pixels, cut at
+  // the image border), where that spans more than a pixel either side
+  const int h = static_cast<int>(0.5 * kTextureScale * m.ppm);
+  if (h >= 1) {
+    const int last = colour.cols - 1;
+    float sum = 0.f;
+    int n = 0;
+    for (int x = std::max(0, m.u0 - m.W - h); x <= std::min(last, m.u0 - m.W + h); ++x, ++n)
+      sum += row.grey(x);
+    for (int k = -m.W; k <= m.W; ++k) {
+      profile_[k + m.W] = sum / static_cast<float>(n);
+      const int leaving = m.u0 + k - h, entering = m.u0 + k + h + 1;  // the box one pixel on
+      if (leaving >= 0) sum -= row.grey(leaving), --n;
+      if (entering <= last) sum += row.grey(entering), ++n;
+    }
+  } else {
+    for (int k = -m.W; k <= m.W; ++k) profile_[k + m.W] = row.grey(m.u0 + k);
+  }
   // backgrounds of both sides, outward from the trace
   m.outer_dir = left ? -1 : 1;  // image direction away from the vehicle
   const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));

@@ -73,7 +73,8 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
         followFromSeed(f, side == 0, c.trace);
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
       matchLengths(c.trace);
-      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+      // (a narrow line: a rail head, or one that no depth measures; either may be worn paint)
+      if (c.evidence.kind == BoundaryKind::kRoadEdge &&
           c.evidence.narrow_rows >= c.evidence.rows / 2)
         dashedNarrowLine(f, side, c);
       // a painted line: on the paint's centre, row by row, and as far as it goes
@@ -92,7 +93,7 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
         if (!std::isfinite(c.evidence.line_height)) {
           classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
           matchLengths(c.trace);
-          if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+          if (c.evidence.kind == BoundaryKind::kRoadEdge &&
               c.evidence.narrow_rows >= c.evidence.rows / 2)
             dashedNarrowLine(f, side, c);
         }
@@ -200,6 +201,7 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   c.trace.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
   c.trace.points.assign(seed_points_.begin(), seed_points_.end());
   c.trace.scores.resize(c.trace.pixels.size(), c.trace.peak_score);
+  c.evidence.boundary = true;
   c.evidence.kind = BoundaryKind::kPaint;
   c.evidence.reason = "narrow dashes (worn paint)";
 }

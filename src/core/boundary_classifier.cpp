@@ -288,12 +288,19 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   // 2. a height step: the surface beyond the line is raised (kerb), or the line itself is;
   // row by row against the road on the vehicle's side of it, in most rows where both are
   // measured (a plane a few centimetres off, or noisy far depth, raises nothing); without such
-  // pairs, the sides' medians against the plane
+  // pairs, the sides' medians against the plane; the surface beyond raised against the road that
+  // the depth measures on the vehicle's side (beside the line, else the line itself, on the
+  // road): where no depth measures that side (a LiDAR's blind zone, sparse rows that only hit a
+  // vehicle in the next lane), nothing shows that the step rises from the road
   const float kerb = static_cast<float>(p.kerb_height);
   const float inner = std::isfinite(ev.inner_height) ? ev.inner_height : 0.0f;
+  const float near_side = std::isfinite(ev.inner_height) ? ev.inner_height
+                          : std::isfinite(ev.line_height) && std::fabs(ev.line_height) <= kerb
+                              ? ev.line_height
+                              : kNaN;
   float step_h = kNaN, raise_h = kNaN;
   if (!stepInMostRows(pair_step_, kerb, kMinHeights, kStepShare, step_h) && std::isfinite(ev.outer_height))
-    step_h = ev.outer_height - inner;
+    step_h = ev.outer_height - near_side;
   if (!stepInMostRows(pair_raise_, kerb, kMinHeights, kStepShare, raise_h) && std::isfinite(ev.line_height))
     raise_h = ev.line_height - inner;
   ev.step_height = step_h;
@@ -319,10 +326,13 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   if (ridge || resolved > 0) {
     if (resolved >= kMinRows && paint_rows < kRidgeShare * resolved) {
       if (narrow_rows >= wide_rows) {
-        ev.boundary = true;
+        // a rail head lies in the road: the depth puts the line on it (a narrow bright line
+        // that no depth measures may be a vehicle's trim or a glint on its body; kind is
+        // still road edge for the worn-paint check of narrow dashes)
         ev.kind = BoundaryKind::kRoadEdge;
-        ev.reason = "narrow band (rail)";
         ev.margin = static_cast<float>(narrow_rows) / resolved;
+        ev.boundary = std::isfinite(ev.line_height) && std::fabs(ev.line_height) <= kerb;
+        ev.reason = ev.boundary ? "narrow band (rail)" : "narrow band, unmeasured";
       } else {
         ev.reason = "wider than paint";
       }

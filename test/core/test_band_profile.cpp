@@ -130,6 +130,62 @@ TEST(BandProfile, SidesAreTheRoadBesideTheLineInnerThenOuter) {
   EXPECT_EQ(f.m.bg[1], 80.f);
 }
 
+// A row of a high-resolution camera near the vehicle (fx 2000 px, the row 500 px below the
+// principal point: the road 6 m ahead, 333 px per metre across it, 3 mm per pixel) with a band
+// of width w centred at x = -1.0 on a road of grey 80; textured paint: bright grains (230) and
+// the darker binder between them (140) in turns of 2 pixels, as worn paint, the aggregate
+// showing through or raised markers look at a few millimetres per pixel; a rail head is smooth.
+struct NearRow {
+  static constexpr int kCols = 1920, kRows = 1200, kV = 1100;
+  cv::Mat bgr, grey, points;
+  PlaneEstimate plane = level();
+  ClassifierInput in;
+  BandProfile profile;
+  RowMeasure m;
+  NearRow(double w, bool textured) {
+    const Intrinsics K{2000.0, 2000.0, 960.0, 600.0};
+    const double ppm = K.fx * (kV - K.cy) / (K.fy * kHeight);
+    bgr.create(kRows, kCols, CV_8UC3);
+    for (int u = 0; u < kCols; ++u) {
+      const double x = (u - K.cx) / ppm;  // lateral position on row kV
+      const int g = std::fabs(x + 1.0) >= 0.5 * w ? 80 : !textured || (u & 3) < 2 ? 230 : 140;
+      bgr.col(u).setTo(cv::Scalar(g, g, g));
+    }
+    points.create(kRows, kCols, CV_32FC3);
+    points.setTo(cv::Scalar::all(std::nanf("")));
+    halfBinary(bgr, PixelFormat::kBgr8, 0, cv::Range(0, bgr.rows), grey);  // threshold 0: grey
+    in.colour = &bgr;
+    in.format = PixelFormat::kBgr8;
+    in.grey = &grey;
+    in.grey_rows = cv::Range(0, bgr.rows);
+    in.K = K;
+    in.points = &points;
+    in.plane = &plane;
+    in.frame = RoadFrame::fromPlane(plane);
+    const float u = static_cast<float>(K.cx - 1.0 * ppm);
+    measured = profile.measureRow(in, cv::Point2f(u, kV), true, Params::improved(), 1.0, m);
+  }
+  bool measured = false;
+};
+
+TEST(BandProfile, TexturedPaintIsOneBandOfPaintWidth) {
+  // (read pixel by pixel, the 12 cm line's grains, 6 mm each, split it at the binder between
+  // them into bands narrower than paint: rail heads)
+  NearRow paint(0.12, true);
+  ASSERT_TRUE(paint.measured);
+  EXPECT_NEAR(paint.m.ppm, 333.3, 0.1);
+  ASSERT_NE(paint.m.paint, nullptr);
+  EXPECT_EQ(paint.m.narrow, nullptr);
+  EXPECT_NEAR((paint.m.paint->hi - paint.m.paint->lo) / paint.m.ppm, 0.12, 0.01);
+  EXPECT_LE(std::fabs(0.5 * (paint.m.paint->lo + paint.m.paint->hi)) / paint.m.ppm, 0.01);
+  // a rail head, 5 cm, stays one band narrower than paint
+  NearRow rail(0.05, false);
+  ASSERT_TRUE(rail.measured);
+  EXPECT_EQ(rail.m.paint, nullptr);
+  ASSERT_NE(rail.m.narrow, nullptr);
+  EXPECT_NEAR((rail.m.narrow->hi - rail.m.narrow->lo) / rail.m.ppm, 0.05, 0.01);
+}
+
 TEST(BandProfile, NoProfileOffTheRoadOrTooFar) {
   Profile f;
   f.render(bandOfWidth(0.16));

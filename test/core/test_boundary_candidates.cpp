@@ -124,9 +124,11 @@ TEST(BoundaryCandidateFinder, NothingAboveTheTraceThreshold) {
 
 // A narrow bright band (5 cm, a rail head's width, or @p width(z) m) 1.8 m left of the camera
 // on a level road, painted where @p painted(z) holds, traced from its response from 4 m to
-// @p traced m ahead and classified: the left side's first candidate.
+// @p traced m ahead and classified: the left side's first candidate. Without @p depth no point
+// is measured (a sparse LiDAR's, or its blind zone).
 BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced,
-                             const std::function<double(double)>& width = nullptr) {
+                             const std::function<double(double)>& width = nullptr,
+                             bool depth = true) {
   test::CrossSection cs;
   cs.colour = [painted, width](double x, double z) {
     const double half = 0.5 * (width ? width(z) : 0.05);
@@ -134,6 +136,7 @@ BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double 
   };
   test::RenderedRoad road;
   road.render(cs);
+  if (!depth) road.points.setTo(cv::Scalar::all(std::nanf("")));
   const cv::Mat empty;
   LaneFitter fitter;
   CandidateFrame f;
@@ -174,6 +177,12 @@ TEST(BoundaryCandidateFinder, NarrowLineInOnePieceIsARailHead) {
   EXPECT_EQ(c.evidence.kind, BoundaryKind::kRoadEdge) << c.evidence.reason;
 }
 
+TEST(BoundaryCandidateFinder, NarrowLineThatNoDepthPutsOnTheRoadIsNoRailHead) {
+  // (a rail head lies in the road; a narrow bright line may as well be a vehicle's trim)
+  const BoundaryCandidate c = narrowLine([](double) { return true; }, 7.0, nullptr, false);
+  EXPECT_FALSE(c.evidence.boundary) << c.evidence.reason;
+}
+
 TEST(BoundaryCandidateFinder, NarrowLineOfWornDashesIsPaint) {
   // a worn dash's narrow core from 4 to 7 m, then, 2.5 m on, what is left of the next dash up
   // to 14 m: 0.2 m fragments every metre (worn paint, raised markers), closer together than the
@@ -189,6 +198,14 @@ TEST(BoundaryCandidateFinder, NarrowLineOfWornDashesIsPaint) {
   EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
   ASSERT_FALSE(c.trace.pixels.empty());
   for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
+  // also where no depth measures it
+  const BoundaryCandidate d = narrowLine(
+      [](double z) {
+        return (z >= 4.0 && z < 7.0) || (z >= 9.5 && z < 14.0 && std::fmod(z, 1.0) < 0.2);
+      },
+      7.0, nullptr, false);
+  EXPECT_TRUE(d.evidence.boundary) << d.evidence.reason;
+  EXPECT_STREQ(d.evidence.reason, "narrow dashes (worn paint)");
 }
 
 // Worn dashes with raised markers between them: a dash from 4 to 6 m, nothing for 2.5 m, markers

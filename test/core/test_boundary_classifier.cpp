@@ -58,6 +58,25 @@ TEST(BoundaryClassifier, RailHeadIsARoadEdge) {
   EXPECT_LT(f.ev.width, Params::improved().paint_width_min);
 }
 
+TEST(BoundaryClassifier, NarrowBandThatNoDepthPutsOnTheRoadIsNoBoundary) {
+  // the rail head's look without a measured point on it (a vehicle's trim, a glint on its body):
+  // no road edge; still typed one, with its narrow rows, for the worn-paint check
+  CrossSection cs;
+  cs.colour = [](double x, double) {
+    if (std::fabs(x + 1.8) < 0.025) return grey(235);
+    if (x > -1.775 && x < -1.735) return grey(25);
+    return grey(80);
+  };
+  Fixture f;
+  f.render(cs);
+  f.points.setTo(cv::Scalar::all(std::nanf("")));
+  f.pixels = linePixels(-1.8);
+  f.classifier.classify(f.in, f.pixels, true, Params::improved(), f.ev);
+  EXPECT_FALSE(f.ev.boundary) << f.ev.reason;
+  EXPECT_EQ(f.ev.kind, BoundaryKind::kRoadEdge) << f.ev.reason;
+  EXPECT_GE(f.ev.narrow_rows, f.ev.rows / 2);
+}
+
 TEST(BoundaryClassifier, ZebraStripeIsNoBoundary) {
   CrossSection cs;
   cs.colour = [](double x, double) { return std::fabs(x + 1.5) < 0.25 ? grey(220) : grey(80); };
@@ -234,6 +253,38 @@ TEST(BoundaryClassifier, LineIsCutAtAVehicleThatSparseDepthAloneMeasures) {
   px = line;
   EXPECT_FALSE(g.classifier.cutAtObject(g.in, px, true, Params::improved()));
   EXPECT_EQ(px.size(), line.size());
+}
+
+TEST(BoundaryClassifier, RaisedSurfaceBeyondWithoutDepthOnTheRoadIsNoStep) {
+  // a painted line at x = -1.8 and, from 0.15 m beyond it, a surface 0.15 m above the road (a kerb,
+  // or a vehicle's sill in the next lane): with the depth of the road on the vehicle's side,
+  // a height step; where no depth measures the line and the road beside it (a LiDAR's blind
+  // zone), nothing shows the step rising from the road: the line is what it looks like, paint
+  CrossSection cs;
+  cs.boxes = {{-INFINITY, -1.95, 0.15}};
+  cs.colour = [](double x, double) { return std::fabs(x + 1.8) < 0.075 ? grey(220) : grey(80); };
+  Fixture f;
+  f.classify(cs, linePixels(-1.8), true);
+  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
+  EXPECT_EQ(f.ev.kind, BoundaryKind::kRoadEdge) << f.ev.reason;
+
+  // the depth measures the raised surface only, and the line 4-12 m ahead (farther, the rows
+  // near a pixel, where its height is sought, reach the raised surface beyond)
+  Fixture g;
+  g.render(cs);
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u) {
+      cv::Vec3f& q = g.points.at<cv::Vec3f>(v, u);
+      if (q[0] > -1.95f) q = cv::Vec3f::all(std::nanf(""));
+    }
+  g.pixels = linePixels(-1.8);
+  while (roadForward(g.pixels.back()) > 12.0) g.pixels.pop_back();
+  g.classifier.classify(g.in, g.pixels, true, Params::improved(), g.ev);
+  EXPECT_FALSE(std::isfinite(g.ev.inner_height));
+  EXPECT_FALSE(std::isfinite(g.ev.line_height));
+  EXPECT_NEAR(g.ev.outer_height, 0.15, 0.02);
+  EXPECT_TRUE(g.ev.boundary) << g.ev.reason;
+  EXPECT_EQ(g.ev.kind, BoundaryKind::kPaint) << g.ev.reason;
 }
 
 }  // namespace
