@@ -69,9 +69,13 @@ class BoundaryCandidateFinder {
  public:
   /// Rows a followed line is reserved for (it grows past them once, on a taller image).
   static constexpr size_t kReservedRows = 2048;
+  /// Points around a seed roadAround() reads at most: (2 * (template_size / 4) + 1)^2 at the
+  /// largest template_size (256).
+  static constexpr size_t kReservedSeedHeights = 129 * 129;
   BoundaryCandidateFinder() {
     seed_pixels_.reserve(kReservedRows);
     seed_points_.reserve(kReservedRows);
+    seed_heights_.reserve(kReservedSeedHeights);
   }
 
   /// Replace the parameters (already sanitised).
@@ -151,6 +155,11 @@ class BoundaryCandidateFinder {
   /// road point where an ego-lane boundary can be (boundary_offset_min/max on its side @p left).
   /// False when no line is found.
   bool followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m);
+  /// The measured points (depth, not the plane filled in) around the input pixel @p seed lie on
+  /// the road (their median within kerb_height of the plane) and agree with each other (their
+  /// median deviation within a quarter of it): a seed whose own point is off the road is a
+  /// stray return there (a LiDAR scan line's end), not a kerb top or a car.
+  bool roadAround(const CandidateFrame& f, const cv::Point2f& seed);
   /// A followed painted line (input pixels, near to far) is one stroke of paint shorter than any
   /// lane line shows (a turn arrow's shaft, a stop line's stub): paint on a single stretch of
   /// road under 8 m, where a dashed line shows two dashes and a solid line more length.
@@ -193,6 +202,7 @@ class BoundaryCandidateFinder {
   std::vector<Eigen::Vector3f> samples_;
   std::vector<cv::Point2f> seed_pixels_;       ///< followFromSeed()'s line
   std::vector<Eigen::Vector3f> seed_points_;
+  std::vector<float> seed_heights_;  ///< roadAround()'s heights
   std::vector<int> band_lo_, band_hi_;
 };
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "rgbd_lane_detector/geometry.h"
+#include "row_statistics.h"
 
 namespace rgbd_lane_detector {
 namespace {
@@ -15,6 +16,8 @@ namespace {
 constexpr double kFollowGap = 13.0;  // m: dash gaps a followed line crosses (9-12 m on motorways)
 constexpr double kSeedReach = 0.3;   // m: a seed's paint is sought this far either side of it
 constexpr double kSeedSpan = 1.0;    // m: the line through a seed starts this far either side
+constexpr int kSeedRoadPoints = 5;   // measured points around a seed that tell its surface ...
+constexpr double kSeedRoadSpread = 0.25;  // ... within this share of kerb_height of each other
 constexpr double kMaxSeedHeading = 25.0 * M_PI / 180.0;  // a followed seed's line runs ahead within this
 constexpr double kStrokeGap = 1.0;     // m without paint between two dashes of a followed line
 constexpr double kRowsPerGap = 2.5;    // ... and more than this many image rows' road
@@ -212,8 +215,9 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
   // the seed lies on the road where the depth measures it (a match without depth, on a wall, a
   // car or a kerb top, or where the road plane only fills missing depth, is followed nowhere)
   const Eigen::Vector3f& sp = m.seed_point;
-  if (!sp.allFinite() || std::fabs(f.road->normal.cast<float>().dot(sp) +
-                                   static_cast<float>(f.road->distance)) > params_.kerb_height)
+  if (!sp.allFinite() || (std::fabs(f.road->normal.cast<float>().dot(sp) +
+                                   static_cast<float>(f.road->distance)) > params_.kerb_height &&
+                          !roadAround(f, m.seed)))
     return false;
   if (f.filled != nullptr) {
     const int px = roundColumn((m.seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5, f.proc_size.width);
@@ -242,6 +246,34 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
   m.num_valid_points = 0;
   for (const auto& p : m.points) m.num_valid_points += !std::isnan(p.z());
   return true;
+}
+
+bool BoundaryCandidateFinder::roadAround(const CandidateFrame& f, const cv::Point2f& seed) {
+  // the measured points (not the plane filled in) around the seed's processing pixel: on the
+  // road, and agreeing with each other (clean depth), so that the seed's own point, off the
+  // road, is a stray return (a scan line's end); on noisy depth no point can be told stray
+  const int cx = roundColumn((seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5,
+                             f.proc_size.width);
+  const int cy = static_cast<int>(
+      std::lround((seed.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5));
+  const int h = std::max(1, params_.template_size / 4);
+  const cv::Rect box = cv::Rect(cx - h, cy - h, 2 * h + 1, 2 * h + 1) & f.roi;
+  const Eigen::Vector3f n = f.road->normal.cast<float>();
+  const float d = static_cast<float>(f.road->distance);
+  seed_heights_.clear();
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const cv::Vec3f* p = f.points->ptr<cv::Vec3f>(y);
+    const uint8_t* fill = f.filled != nullptr ? f.filled->ptr<uint8_t>(y) : nullptr;
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      if ((fill != nullptr && fill[x] != 0) || std::isnan(p[x][2])) continue;
+      seed_heights_.push_back(n.x() * p[x][0] + n.y() * p[x][1] + n.z() * p[x][2] + d);
+    }
+  }
+  if (static_cast<int>(seed_heights_.size()) < kSeedRoadPoints) return false;
+  const float road = median(seed_heights_);
+  if (!(std::fabs(road) <= params_.kerb_height)) return false;
+  for (float& v : seed_heights_) v = std::fabs(v - road);  // their spread: the median deviation
+  return median(seed_heights_) <= kSeedRoadSpread * params_.kerb_height;
 }
 
 template <typename Lateral>

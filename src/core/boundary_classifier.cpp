@@ -23,6 +23,9 @@ constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint 
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
+constexpr double kDashLength = 3.0;           // m of unbroken paint width: a dash (3 m at the
+                                              // shortest), which no rail head widens to ...
+constexpr int kDashRows = 8;                  // ... measured on this many rows at least
 constexpr double kArrowReach = 2.5;           // m beyond a stroke's far end where an arrow's head is sought
 constexpr double kArrowBack = 3.0;            // ... and from this far before it
 constexpr double kArrowHalfWidth = 0.8;       // m either side of the stroke's extension looked at
@@ -203,6 +206,10 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   const double cos_heading = in.cosHeading(pixels);
 
   int paint_rows = 0, narrow_rows = 0, wide_rows = 0;
+  // the longest stretch of road painted without a break (measured rows with a band of paint
+  // width, at most one row between them without)
+  double run_start = 0.0, run_end = 0.0, longest_run = 0.0;
+  int run_misses = 2, run_rows = 0, longest_rows = 0;
   RowMeasure m;
   // at most kMaxMeasuredRows rows, spread evenly along the line (a followed line has a point on
   // every image row; its medians need no more)
@@ -227,10 +234,25 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     }
     if (m.peak - m.top >= m.contrast) ++ev.ridge_rows;
     const Band* chosen = m.paint ? m.paint : m.narrow ? m.narrow : m.wide;
+    if (!m.paint) ++run_misses;
     if (chosen) {
       width_.push_back(static_cast<float>((chosen->hi - chosen->lo) / m.ppm * cos_heading));
       if (m.paint) {
         ++paint_rows;
+        double fwd, ppm;
+        if (in.roadAt(c.x, c.y, fwd, ppm)) {
+          if (run_misses > 1) {
+            run_start = fwd;
+            run_rows = 0;
+          }
+          run_end = fwd;
+          run_misses = 0;
+          ++run_rows;
+          if (std::fabs(run_end - run_start) > longest_run) {
+            longest_run = std::fabs(run_end - run_start);
+            longest_rows = run_rows;
+          }
+        }
         shift_.push_back(static_cast<float>(0.5 * (m.paint->lo + m.paint->hi) / m.ppm));
       } else if (m.narrow) {
         ++narrow_rows;
@@ -324,7 +346,10 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   const bool ridge = ev.ridge_rows >= kRidgeShare * ev.rows;
   const int resolved = paint_rows + narrow_rows + wide_rows;
   if (ridge || resolved > 0) {
-    if (resolved >= kMinRows && paint_rows < kRidgeShare * resolved) {
+    // (a narrow line that runs into a dash is paint: a worn dash's rim, a seam's glint on it)
+    const bool dash = longest_run >= kDashLength && longest_rows >= kDashRows;
+    const bool little_paint = paint_rows < kRidgeShare * resolved;
+    if (resolved >= kMinRows && little_paint && !(narrow_rows >= wide_rows && dash)) {
       if (narrow_rows >= wide_rows) {
         // a rail head lies in the road: the depth puts the line on it (a narrow bright line
         // that no depth measures may be a vehicle's trim or a glint on its body; kind is
@@ -344,7 +369,9 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     }
     ev.boundary = true;
     ev.kind = BoundaryKind::kPaint;
-    ev.reason = resolved >= kMinRows ? "bright band" : "bright band (width unresolved)";
+    ev.reason = resolved < kMinRows ? "bright band (width unresolved)"
+                : little_paint      ? "narrow line with a dash"
+                                    : "bright band";
     ev.margin = resolved >= kMinRows ? static_cast<float>(paint_rows) / resolved
                                      : 0.7f * std::min(1.0f, static_cast<float>(ev.ridge_rows) / ev.rows);
     if (resolved >= kMinRows) {

@@ -1,7 +1,8 @@
 // Candidate boundaries of a frame: lines traced from a response map, best seed first, the next
 // seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
 // narrow line told as a rail head or as worn dashed paint (also where raised markers join its
-// dashes).
+// dashes); a short match followed from its seed when the depth around it is the road (its own
+// point a stray return or not).
 #include <cmath>
 #include <functional>
 
@@ -239,6 +240,98 @@ TEST(BoundaryCandidateFinder, NarrowLineWithoutPaintWidthJoinedByMarkersIsARailH
   const BoundaryCandidate c = wornDashesWithMarkers(0.0);
   EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
   EXPECT_EQ(c.evidence.kind, BoundaryKind::kRoadEdge) << c.evidence.reason;
+}
+
+// A dashed lane line (15 cm, 3 m dashes every 9 m) 1.8 m left of the camera on a level road; the
+// response only a short stretch of it around 8 m ahead (too short to trace: the seed is followed
+// on the image), the seed's own point at @p seed_height above the road, the other points'
+// heights alternating +-@p spread. The left side's first candidate after classification.
+BoundaryCandidate seededLine(double seed_height, double spread) {
+  test::CrossSection cs;
+  cs.colour = [](double x, double z) {
+    return std::fabs(x + 1.8) < 0.075 && std::fmod(z, 9.0) < 3.0 ? test::grey(220)
+                                                                   : test::grey(80);
+  };
+  test::RenderedRoad road;
+  road.render(cs);
+  // the points at the height of a ray: the ray's point scaled along it
+  auto atHeight = [](cv::Vec3f& p, double h) {
+    const double s = (test::kHeight - h) / test::kHeight;
+    p *= static_cast<float>(s);
+  };
+  cv::Mat R(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  const auto at = [](double z) {
+    return cv::Point2f(static_cast<float>(test::kK.fx * -1.8 / z + test::kK.cx),
+                       static_cast<float>(test::kK.fy * test::kHeight / z + test::kK.cy));
+  };
+  cv::line(R, at(7.8), at(8.2), cv::Scalar(1.2), 3);
+  // the seed: of the equal best matches the topmost, then the innermost (findBestMatch())
+  cv::Point seed(-1, -1);
+  for (int v = 0; v < test::kH && seed.y < 0; ++v)
+    for (int u = 0; u < test::kW; ++u)
+      if (R.at<float>(v, u) > 0.f) seed = cv::Point(u, v);
+  bool odd = false;
+  for (int v = 0; v < test::kH; ++v)
+    for (int u = 0; u < test::kW; ++u) {
+      cv::Vec3f& p = road.points.at<cv::Vec3f>(v, u);
+      if (std::isnan(p[2])) continue;
+      if (cv::Point(u, v) == seed) {
+        atHeight(p, seed_height);
+      } else if (spread > 0.0) {
+        atHeight(p, (odd = !odd) ? spread : -spread);
+      }
+    }
+  const cv::Mat empty;
+  LaneFitter fitter;
+  CandidateFrame f;
+  f.colour = &road.bgr;
+  f.format = PixelFormat::kBgr8;
+  f.grey = &road.grey;
+  f.grey_rows = cv::Range(0, test::kH);
+  f.K = test::kK;
+  f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
+  f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
+                   test::kH - static_cast<int>(0.41 * test::kH));
+  f.roi_rows = cv::Range(f.roi.y, test::kH);
+  f.col_map = f.row_map = &empty;
+  f.points = &road.points;
+  f.road = &road.plane;
+  f.fitter = &fitter;
+  f.template_angle = {3 * M_PI / 4, M_PI / 4};
+  Params p = Params::improved();
+  p.boundary_candidates = 1;
+  BoundaryCandidateFinder finder;
+  finder.setParams(p);
+  finder.clear();
+  finder.traceLines(f, 0, R);
+  finder.classify(f);
+  int n = 0;
+  const BoundaryCandidate* c = finder.candidates(0, n);
+  return n > 0 ? c[0] : BoundaryCandidate();
+}
+
+TEST(BoundaryCandidateFinder, SeedOnTheRoadIsFollowed) {
+  const BoundaryCandidate c = seededLine(0.0, 0.0);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+  ASSERT_GE(c.trace.pixels.size(), 20u);
+  for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
+}
+
+TEST(BoundaryCandidateFinder, SeedOnAStrayReturnAmidTheRoadIsFollowed) {
+  // the seed's own point 10 cm below the road (a scan line's end), the road's around it
+  const BoundaryCandidate c = seededLine(-0.10, 0.0);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+  ASSERT_GE(c.trace.pixels.size(), 20u);
+  for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
+}
+
+TEST(BoundaryCandidateFinder, SeedOffTheRoadAmidNoisyDepthIsNotFollowed) {
+  // the same seed amid depth that scatters +-3 cm (more than a quarter of the kerb height): no
+  // point there can be told a stray return, and the seed's is off the road
+  const BoundaryCandidate c = seededLine(-0.10, 0.03);
+  EXPECT_FALSE(c.evidence.boundary && c.trace.pixels.size() >= 20u) << c.evidence.reason;
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Boundary classification on rendered cross-sections of a road: paint, a rail head, a zebra
-// stripe, a kerb, a shadow's edge, a grass edge, a rail beside paint, an object above the road.
+// Boundary classification on rendered cross-sections of a road: paint, a rail head, a thin line
+// running into a dash, a zebra stripe, a kerb, a shadow's edge, a grass edge, a rail beside paint, an object above the road.
 // (Following lines row by row: test_line_follower.)
 #include <cmath>
 
@@ -75,6 +75,28 @@ TEST(BoundaryClassifier, NarrowBandThatNoDepthPutsOnTheRoadIsNoBoundary) {
   EXPECT_FALSE(f.ev.boundary) << f.ev.reason;
   EXPECT_EQ(f.ev.kind, BoundaryKind::kRoadEdge) << f.ev.reason;
   EXPECT_GE(f.ev.narrow_rows, f.ev.rows / 2);
+}
+
+TEST(BoundaryClassifier, ThinLineRunningIntoADashIsPaint) {
+  // a thin bright line (4 cm: a seam's glint, a dash's worn rim) from 3 to 5 m, then the next
+  // dash of the same line at paint width from 5 to 10 m: a rail head never widens to a dash
+  CrossSection cs;
+  cs.colour = [](double x, double z) {
+    const double half = z < 5.0 ? 0.02 : z < 10.0 ? 0.075 : 0.0;
+    return std::fabs(x + 1.8) < half ? grey(235) : grey(80);
+  };
+  // one point per image row, 3 to 10 m ahead (as a followed line has)
+  std::vector<cv::Point2f> px;
+  for (double v = std::floor(kK.fy * kHeight / 3.0 + kK.cy); v >= kK.fy * kHeight / 10.0 + kK.cy;
+       v -= 1.0) {
+    const double z = kK.fy * kHeight / (v - kK.cy);
+    px.emplace_back(static_cast<float>(kK.fx * -1.8 / z + kK.cx), static_cast<float>(v));
+  }
+  Fixture f;
+  f.classify(cs, px, true);
+  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
+  EXPECT_EQ(f.ev.kind, BoundaryKind::kPaint) << f.ev.reason;
+  EXPECT_GT(f.ev.narrow_rows, f.ev.paint_rows) << "mostly the thin line";
 }
 
 TEST(BoundaryClassifier, ZebraStripeIsNoBoundary) {
