@@ -155,12 +155,20 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
                : open > w / 4 && noNumber(row, 3 * w))
       continue;
     int k = 0;
-    for (int i = 0; i < open; ++i) {
+    for (int i = 0; i < open;) {
       const int x = fill_open_[i];
-      if ((blocks && !blocks[x / kDepthBlock]) || std::isnan(row[3 * x + 2]))
+      const unsigned b = static_cast<unsigned>(x) / kDepthBlock;
+      if (blocks && !blocks[b]) {  // the open columns of a block without depth stay open
+        const int end = static_cast<int>(b + 1) * kDepthBlock;
+        do fill_open_[k++] = fill_open_[i++];
+        while (i < open && fill_open_[i] < end);
+        continue;
+      }
+      if (std::isnan(row[3 * x + 2]))
         fill_open_[k++] = x;
       else
         fill_from_[x] = y;
+      ++i;
     }
     open = k;
   }
