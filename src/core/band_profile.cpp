@@ -166,9 +166,9 @@ bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int hal
   profile_.resize(2 * W + 1);
   for (int k = -W; k <= W; ++k) profile_[k + W] = row.grey(u0 + k);
   // the road beside the window, and the brightest pixel in it
-  side_.clear();
-  for (int k = -W; k <= W; ++k)
-    if (std::abs(k) > half) side_.push_back(profile_[k + W]);
+  side_.resize(2 * (W - half));  // (the columns beyond half either side)
+  std::copy(profile_.begin(), profile_.begin() + (W - half), side_.begin());
+  std::copy(profile_.begin() + (W + half + 1), profile_.end(), side_.begin() + (W - half));
   const float bg = greyMedian(side_);
   int kp = -half;
   for (int k = -half; k <= half; ++k)
