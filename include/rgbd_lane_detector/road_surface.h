@@ -154,7 +154,7 @@ class RoadSurface {
   const uint8_t* blockRow(const cv::Mat& points, int y) const;
 
   const cv::Mat* blocks_ = nullptr;  ///< setDepthBlocks()
-  std::vector<int> fill_open_;  ///< extendToCamera(): the columns without depth so far
+  std::vector<int> fill_open_;  ///< extendToCamera(): per depth block, its columns without depth so far
   std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays and nx x
   double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;

@@ -122,17 +122,20 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
   m.noise = -1.0f;
   for (int s = 0; s < 2; ++s) {
     const int dir = s == 1 ? m.outer_dir : -m.outer_dir;
-    side_.clear();
+    // columns s0..min(s1, W) out (written in place: sized once, not pushed)
+    const int n = std::min(s1, m.W) - s0 + 1;
+    if (n <= 0) return false;
+    side_.resize(n);
     double sr = 0, sg = 0, sb = 0;
-    for (int k = s0; k <= s1 && k <= m.W; ++k) {
+    for (int i = 0; i < n; ++i) {
+      const int k = s0 + i;
       float R, G, B;
       row.rgb(m.u0 + dir * k, R, G, B);
-      side_.push_back(profile_[m.W + dir * k]);
+      side_[i] = profile_[m.W + dir * k];
       sr += R;
       sg += G;
       sb += B;
     }
-    if (side_.empty()) return false;
     // the chromaticity of the side's mean colour (dark pixels' colour is mostly noise: each
     // pixel counts by its brightness)
     const double sum = sr + sg + sb;
@@ -141,8 +144,10 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
     m.bg[s] = greyMedian(side_);
     // the row's noise: the robust spread of the smoother side's grey about its median
     if (side_.size() >= kMinNoiseSamples) {
-      dev_.clear();
-      for (const float x : side_) dev_.push_back(std::fabs(x - m.bg[s]));
+      dev_.resize(side_.size());
+      const float bg = m.bg[s];
+      std::transform(side_.begin(), side_.end(), dev_.begin(),
+                     [bg](float x) { return std::fabs(x - bg); });
       const float sd = kMadToSigma * greyMedian(dev_);
       m.noise = m.noise < 0.0f ? sd : std::min(m.noise, sd);
     }
@@ -188,9 +193,9 @@ bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int hal
   profile_.resize(2 * W + 1);
   for (int k = -W; k <= W; ++k) profile_[k + W] = row.grey(u0 + k);
   // the road beside the window, and the brightest pixel in it
-  side_.clear();
-  for (int k = -W; k <= W; ++k)
-    if (std::abs(k) > half) side_.push_back(profile_[k + W]);
+  side_.resize(2 * (W - half));  // (the columns beyond half either side)
+  std::copy(profile_.begin(), profile_.begin() + (W - half), side_.begin());
+  std::copy(profile_.begin() + (W + half + 1), profile_.end(), side_.begin() + (W - half));
   const float bg = greyMedian(side_);
   int kp = -half;
   for (int k = -half; k <= half; ++k)
@@ -230,12 +235,12 @@ bool BandProfile::edgeInRow(const ClassifierInput& in, int v, double u, double p
   const ImageRow row(in, v);
   if (!row.valid()) return false;
   // the road well inside the line: its grey and colour
-  side_.clear();
+  side_.resize(std::max(0, ref1 - ref0 + 1));
   double sr = 0.0, sg = 0.0;
   for (int k = ref0; k <= ref1; ++k) {
     float r, g;
     row.chroma(u0 - out_dir * k, r, g);
-    side_.push_back(row.grey(u0 - out_dir * k));
+    side_[k - ref0] = row.grey(u0 - out_dir * k);
     sr += r;
     sg += g;
   }
@@ -247,7 +252,7 @@ bool BandProfile::edgeInRow(const ClassifierInput& in, int v, double u, double p
   // outward from well inside the line: the first window of kEdgeRun that is mostly not road
   // (a kerb face, a pavement, grass; a gutter's scattered leaves are not enough)
   const float chroma2 = static_cast<float>(p.edge_chroma * p.edge_chroma);
-  other_.clear();
+  other_.resize(std::max(0, beyond + run + start + 1));
   for (int k = -start; k <= beyond + run; ++k) {
     const int x = u0 + out_dir * k;
     bool other = row.grey(x) - road >= brighter;
@@ -256,7 +261,7 @@ bool BandProfile::edgeInRow(const ClassifierInput& in, int v, double u, double p
       row.chroma(x, r, g);
       other = (r - road_r) * (r - road_r) + (g - road_g) * (g - road_g) >= chroma2;
     }
-    other_.push_back(other);
+    other_[k + start] = other;
   }
   const int need = static_cast<int>(std::ceil(kEdgeFill * run));
   int count = 0;

@@ -37,6 +37,35 @@ constexpr int kModeHalfWidth = 2;           // the mode counts the bins within +
 constexpr double kSharpMode = 0.3;          // share of a bin's samples near its mode
 constexpr double kLeavesPlane = 0.08;       // m: the road left the plane
 
+// f(x) for the grid's columns x = stride / 2 + k stride of a row, in order, but none in a depth
+// block without depth (blocks: the row of the block map, or null): a sparse LiDAR's grid at a
+// fine stride passes over its empty blocks at once, not column by column
+template <typename F>
+inline void forEachGridColumn(const uint8_t* blocks, int cols, int stride, F&& f) {
+  int x = stride / 2;
+  if (!blocks) {
+    for (; x < cols; x += stride) f(x);
+    return;
+  }
+  if (stride >= kDepthBlock) {  // a column or none per block
+    for (; x < cols; x += stride)
+      if (blocks[x / kDepthBlock]) f(x);
+    return;
+  }
+  while (x < cols) {
+    const int b = x / kDepthBlock;
+    const int end = std::min(cols, (b + 1) * kDepthBlock);
+    if (blocks[b]) {
+      for (; x < end; x += stride) f(x);
+    } else if (stride == 1) {
+      x = end;
+    } else {
+      do x += stride;
+      while (x < end);
+    }
+  }
+}
+
 double tukeyWeight(double r, double c) {
   const double u = r / c;
   if (std::fabs(u) >= 1.0) return 0.0;
@@ -99,15 +128,14 @@ int RoadSurface::nearGridCount(const cv::Mat& points, const cv::Range& rows,
   int count = 0;
   for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
     const float* row = points.ptr<float>(y);
-    const uint8_t* blocks = blockRow(points, y);
-    for (int x = stride / 2; x < points.cols; x += stride) {
-      if (blocks && !blocks[x / kDepthBlock]) continue;  // no depth there
+    // (blocks without depth give no sample)
+    forEachGridColumn(blockRow(points, y), points.cols, stride, [&](int x) {
       const float* q = row + 3 * x;
       // collectGrid()'s sample() within fit_range
       if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
-        continue;
+        return;
       if (q[2] <= fit_range) ++count;
-    }
+    });
   }
   return count;
 }
@@ -139,10 +167,9 @@ void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
     const bool grid_row = (y - rows.start) % stride == stride / 2;
     const uint8_t* blocks = blockRow(points, y);  // (blocks without depth give no sample)
     if (grid_row) {
-      for (int x = stride / 2; x < points.cols; x += stride) {
-        if ((blocks && !blocks[x / kDepthBlock]) || !sample(row + 3 * x, smp)) continue;
-        (smp.p.z() <= fit_range ? near_ : far_).push_back(smp);
-      }
+      forEachGridColumn(blocks, points.cols, stride, [&](int x) {
+        if (sample(row + 3 * x, smp)) (smp.p.z() <= fit_range ? near_ : far_).push_back(smp);
+      });
     }
     // beyond fit_range the corridor's every pixel (the valid range check: far away the corridor
     // is a few pixels wide)

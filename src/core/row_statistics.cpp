@@ -37,10 +37,14 @@ float median(std::vector<float>& v) {
 float greyMedian(std::vector<float>& v) {
   if (v.size() <= 16) return median(v);
   std::array<uint16_t, 256> count{};
-  for (float g : v) ++count[static_cast<uint8_t>(g)];
+  int b = 255;  // counted from the lowest value on (a road's grey is far above 0)
+  for (float g : v) {
+    const uint8_t k = static_cast<uint8_t>(g);
+    ++count[k];
+    b = std::min<int>(b, k);
+  }
   const size_t rank = v.size() / 2 + 1;  // nth_element's v.size() / 2, counted from 1
   size_t seen = 0;
-  int b = 0;
   while ((seen += count[b]) < rank) ++b;
   return static_cast<float>(b);
 }
