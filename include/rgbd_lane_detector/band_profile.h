@@ -95,6 +95,7 @@ class BandProfile {
   void addBand(int a, int b, float base, bool open, int W);
 
   std::vector<float> profile_;
+  std::vector<float> reach_;          ///< grey of the columns a row's averaging boxes reach
   std::vector<Band> bands_;
   std::vector<float> side_;           ///< grey values of a row's sides (medians)
   std::vector<float> dev_;            ///< their absolute deviations (the row's noise)

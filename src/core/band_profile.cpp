@@ -101,16 +101,21 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
   // the image border), where that spans more than a pixel either side
   const int h = static_cast<int>(0.5 * kTextureScale * m.ppm);
   if (h >= 1) {
+    // the row's grey over the boxes' reach, read once (without a grey image it is computed from
+    // the colour, and every pixel enters a box and leaves it)
     const int last = colour.cols - 1;
+    const int x0 = std::max(0, m.u0 - m.W - h), x1 = std::min(last, m.u0 + m.W + h + 1);
+    reach_.resize(static_cast<size_t>(x1 - x0 + 1));
+    for (int x = x0; x <= x1; ++x) reach_[x - x0] = row.grey(x);
+    const auto g = [&](int x) { return reach_[static_cast<size_t>(x - x0)]; };  // column x
     float sum = 0.f;
     int n = 0;
-    for (int x = std::max(0, m.u0 - m.W - h); x <= std::min(last, m.u0 - m.W + h); ++x, ++n)
-      sum += row.grey(x);
+    for (int x = x0; x <= std::min(last, m.u0 - m.W + h); ++x, ++n) sum += g(x);
     for (int k = -m.W; k <= m.W; ++k) {
       profile_[k + m.W] = sum / static_cast<float>(n);
       const int leaving = m.u0 + k - h, entering = m.u0 + k + h + 1;  // the box one pixel on
-      if (leaving >= 0) sum -= row.grey(leaving), --n;
-      if (entering <= last) sum += row.grey(entering), ++n;
+      if (leaving >= 0) sum -= g(leaving), --n;
+      if (entering <= last) sum += g(entering), ++n;
     }
   } else {
     for (int k = -m.W; k <= m.W; ++k) profile_[k + m.W] = row.grey(m.u0 + k);
