@@ -100,6 +100,23 @@ inline double roadForward(const cv::Point2f& c) {
   return kK.fy * kHeight / (c.y - kK.cy);
 }
 
+// The classifier's input views on a colour image @p bgr (its grey made into @p grey), its
+// @p points and road @p plane, seen with @p K.
+inline ClassifierInput classifierInput(const cv::Mat& bgr, cv::Mat& grey, const cv::Mat& points,
+                                       const PlaneEstimate& plane, const Intrinsics& K) {
+  halfBinary(bgr, PixelFormat::kBgr8, 0, cv::Range(0, bgr.rows), grey);  // threshold 0: grey
+  ClassifierInput in;
+  in.colour = &bgr;
+  in.format = PixelFormat::kBgr8;
+  in.grey = &grey;
+  in.grey_rows = cv::Range(0, bgr.rows);
+  in.K = K;
+  in.points = &points;
+  in.plane = &plane;
+  in.frame = RoadFrame::fromPlane(plane);
+  return in;
+}
+
 // A rendered road and the classifier's input views on it.
 struct RenderedRoad {
   cv::Mat bgr, grey, points;
@@ -108,15 +125,7 @@ struct RenderedRoad {
 
   void render(const CrossSection& cs) {
     cs.render(bgr, points);
-    halfBinary(bgr, PixelFormat::kBgr8, 0, cv::Range(0, bgr.rows), grey);  // threshold 0: grey
-    in.colour = &bgr;
-    in.format = PixelFormat::kBgr8;
-    in.grey = &grey;
-    in.grey_rows = cv::Range(0, bgr.rows);
-    in.K = kK;
-    in.points = &points;
-    in.plane = &plane;
-    in.frame = RoadFrame::fromPlane(plane);
+    in = classifierInput(bgr, grey, points, plane, kK);
   }
 };
 

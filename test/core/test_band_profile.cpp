@@ -153,15 +153,7 @@ struct NearRow {
     }
     points.create(kRows, kCols, CV_32FC3);
     points.setTo(cv::Scalar::all(std::nanf("")));
-    halfBinary(bgr, PixelFormat::kBgr8, 0, cv::Range(0, bgr.rows), grey);  // threshold 0: grey
-    in.colour = &bgr;
-    in.format = PixelFormat::kBgr8;
-    in.grey = &grey;
-    in.grey_rows = cv::Range(0, bgr.rows);
-    in.K = K;
-    in.points = &points;
-    in.plane = &plane;
-    in.frame = RoadFrame::fromPlane(plane);
+    in = classifierInput(bgr, grey, points, plane, K);
     const float u = static_cast<float>(K.cx - 1.0 * ppm);
     measured = profile.measureRow(in, cv::Point2f(u, kV), true, Params::improved(), 1.0, m);
   }

@@ -123,21 +123,9 @@ TEST(BoundaryCandidateFinder, NothingAboveTheTraceThreshold) {
   }
 }
 
-// A narrow bright band (5 cm, a rail head's width, or @p width(z) m) 1.8 m left of the camera
-// on a level road, painted where @p painted(z) holds, traced from its response from 4 m to
-// @p traced m ahead and classified: the left side's first candidate. Without @p depth no point
-// is measured (a sparse LiDAR's, or its blind zone).
-BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced,
-                             const std::function<double(double)>& width = nullptr,
-                             bool depth = true) {
-  test::CrossSection cs;
-  cs.colour = [painted, width](double x, double z) {
-    const double half = 0.5 * (width ? width(z) : 0.05);
-    return std::fabs(x + 1.8) < half && painted(z) ? test::grey(235) : test::grey(80);
-  };
-  test::RenderedRoad road;
-  road.render(cs);
-  if (!depth) road.points.setTo(cv::Scalar::all(std::nanf("")));
+// The left side's first candidate on @p road (its colour, points and plane) traced from the
+// response @p R and classified, one candidate per side, improved mode.
+BoundaryCandidate firstLeftCandidate(const test::RenderedRoad& road, cv::Mat& R) {
   const cv::Mat empty;
   LaneFitter fitter;
   CandidateFrame f;
@@ -155,11 +143,6 @@ BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double 
   f.road = &road.plane;
   f.fitter = &fitter;
   f.template_angle = {3 * M_PI / 4, M_PI / 4};
-  // its response: a band along the line's image
-  cv::Mat R(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
-  const std::vector<cv::Point2f> px = test::linePixels(-1.8);
-  for (size_t i = 1; i < px.size() && test::roadForward(px[i]) <= traced; ++i)
-    cv::line(R, px[i - 1], px[i], cv::Scalar(1.2), 5);
   Params p = Params::improved();
   p.boundary_candidates = 1;
   BoundaryCandidateFinder finder;
@@ -170,6 +153,29 @@ BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double 
   int n = 0;
   const BoundaryCandidate* c = finder.candidates(0, n);
   return n > 0 ? c[0] : BoundaryCandidate();
+}
+
+// A narrow bright band (5 cm, a rail head's width, or @p width(z) m) 1.8 m left of the camera
+// on a level road, painted where @p painted(z) holds, traced from its response from 4 m to
+// @p traced m ahead and classified: the left side's first candidate. Without @p depth no point
+// is measured (a sparse LiDAR's, or its blind zone).
+BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced,
+                             const std::function<double(double)>& width = nullptr,
+                             bool depth = true) {
+  test::CrossSection cs;
+  cs.colour = [painted, width](double x, double z) {
+    const double half = 0.5 * (width ? width(z) : 0.05);
+    return std::fabs(x + 1.8) < half && painted(z) ? test::grey(235) : test::grey(80);
+  };
+  test::RenderedRoad road;
+  road.render(cs);
+  if (!depth) road.points.setTo(cv::Scalar::all(std::nanf("")));
+  // its response: a band along the line's image
+  cv::Mat R(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  const std::vector<cv::Point2f> px = test::linePixels(-1.8);
+  for (size_t i = 1; i < px.size() && test::roadForward(px[i]) <= traced; ++i)
+    cv::line(R, px[i - 1], px[i], cv::Scalar(1.2), 5);
+  return firstLeftCandidate(road, R);
 }
 
 TEST(BoundaryCandidateFinder, NarrowLineInOnePieceIsARailHead) {
@@ -281,33 +287,7 @@ BoundaryCandidate seededLine(double seed_height, double spread) {
         atHeight(p, (odd = !odd) ? spread : -spread);
       }
     }
-  const cv::Mat empty;
-  LaneFitter fitter;
-  CandidateFrame f;
-  f.colour = &road.bgr;
-  f.format = PixelFormat::kBgr8;
-  f.grey = &road.grey;
-  f.grey_rows = cv::Range(0, test::kH);
-  f.K = test::kK;
-  f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
-  f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
-                   test::kH - static_cast<int>(0.41 * test::kH));
-  f.roi_rows = cv::Range(f.roi.y, test::kH);
-  f.col_map = f.row_map = &empty;
-  f.points = &road.points;
-  f.road = &road.plane;
-  f.fitter = &fitter;
-  f.template_angle = {3 * M_PI / 4, M_PI / 4};
-  Params p = Params::improved();
-  p.boundary_candidates = 1;
-  BoundaryCandidateFinder finder;
-  finder.setParams(p);
-  finder.clear();
-  finder.traceLines(f, 0, R);
-  finder.classify(f);
-  int n = 0;
-  const BoundaryCandidate* c = finder.candidates(0, n);
-  return n > 0 ? c[0] : BoundaryCandidate();
+  return firstLeftCandidate(road, R);
 }
 
 TEST(BoundaryCandidateFinder, SeedOnTheRoadIsFollowed) {

@@ -43,14 +43,20 @@ TEST(BoundaryClassifier, PaintIsABrightBandOfPaintWidth) {
   EXPECT_GT(f.ev.margin, 0.5f);
 }
 
-TEST(BoundaryClassifier, RailHeadIsARoadEdge) {
-  // a 5 cm shiny head with the dark groove beside it, flush with the road
+// A 5 cm shiny rail head 1.8 m left of the camera with the dark groove beside it, flush with
+// the road.
+CrossSection railHead() {
   CrossSection cs;
   cs.colour = [](double x, double) {
     if (std::fabs(x + 1.8) < 0.025) return grey(235);
     if (x > -1.775 && x < -1.735) return grey(25);
     return grey(80);
   };
+  return cs;
+}
+
+TEST(BoundaryClassifier, RailHeadIsARoadEdge) {
+  const CrossSection cs = railHead();
   Fixture f;
   f.classify(cs, linePixels(-1.8), true);
   EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
@@ -61,12 +67,7 @@ TEST(BoundaryClassifier, RailHeadIsARoadEdge) {
 TEST(BoundaryClassifier, NarrowBandThatNoDepthPutsOnTheRoadIsNoBoundary) {
   // the rail head's look without a measured point on it (a vehicle's trim, a glint on its body):
   // no road edge; still typed one, with its narrow rows, for the worn-paint check
-  CrossSection cs;
-  cs.colour = [](double x, double) {
-    if (std::fabs(x + 1.8) < 0.025) return grey(235);
-    if (x > -1.775 && x < -1.735) return grey(25);
-    return grey(80);
-  };
+  const CrossSection cs = railHead();
   Fixture f;
   f.render(cs);
   f.points.setTo(cv::Scalar::all(std::nanf("")));
