@@ -290,21 +290,19 @@ BoundaryCandidate seededLine(double seed_height, double spread) {
   return firstLeftCandidate(road, R);
 }
 
-TEST(BoundaryCandidateFinder, SeedOnTheRoadIsFollowed) {
-  const BoundaryCandidate c = seededLine(0.0, 0.0);
+// The dashed line followed as paint along its whole length (x = -1.8 m).
+void expectFollowedPaint(const BoundaryCandidate& c) {
   EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
   EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
   ASSERT_GE(c.trace.pixels.size(), 20u);
   for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
 }
 
+TEST(BoundaryCandidateFinder, SeedOnTheRoadIsFollowed) { expectFollowedPaint(seededLine(0.0, 0.0)); }
+
 TEST(BoundaryCandidateFinder, SeedOnAStrayReturnAmidTheRoadIsFollowed) {
   // the seed's own point 10 cm below the road (a scan line's end), the road's around it
-  const BoundaryCandidate c = seededLine(-0.10, 0.0);
-  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
-  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
-  ASSERT_GE(c.trace.pixels.size(), 20u);
-  for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
+  expectFollowedPaint(seededLine(-0.10, 0.0));
 }
 
 TEST(BoundaryCandidateFinder, SeedOffTheRoadAmidNoisyDepthIsNotFollowed) {
