@@ -298,7 +298,9 @@ void expectFollowedPaint(const BoundaryCandidate& c) {
   for (const auto& q : c.trace.pixels) EXPECT_NEAR(test::roadLateral(q), -1.8, 0.1) << q;
 }
 
-TEST(BoundaryCandidateFinder, SeedOnTheRoadIsFollowed) { expectFollowedPaint(seededLine(0.0, 0.0)); }
+TEST(BoundaryCandidateFinder, SeedOnTheRoadIsFollowed) {
+  expectFollowedPaint(seededLine(0.0, 0.0));
+}
 
 TEST(BoundaryCandidateFinder, SeedOnAStrayReturnAmidTheRoadIsFollowed) {
   // the seed's own point 10 cm below the road (a scan line's end), the road's around it
