@@ -38,7 +38,10 @@ OUT=$ROOT/build/bench
 mkdir -p "$OUT" "$ROOT/docs"
 load=$(cut -d' ' -f1 /proc/loadavg)
 echo "bench: $BIN (load average $load; figures are only comparable on a quiet machine)"
+# repetitions interleaved at random: a shared machine's speed drifts during the run, and each
+# benchmark's median then sees the same drift as the OpenCV pipeline it is compared with
 "$BIN" --benchmark_repetitions="${BENCH_REPETITIONS:-5}" --benchmark_report_aggregates_only=true \
+  --benchmark_enable_random_interleaving=true \
   --benchmark_filter="${BENCH_FILTER:-.}" \
   --benchmark_out="$OUT/bench.json" --benchmark_out_format=json | tee "$OUT/bench.txt"
 

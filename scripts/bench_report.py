@@ -255,8 +255,9 @@ def main():
     L.append(f"Machine: {ctx.get('num_cpus', '?')} CPUs at {ctx.get('mhz_per_cpu', '?')} MHz "
              f"(shared), load average at the start {', '.join(f'{x:.2f}' for x in load_avg)}. "
              "All figures are single-threaded (`cv::setNumThreads(1)`), medians of "
-             "repetitions, CPU time per frame; both implementations ran in the same process "
-             "and the same run. Frames: generated roads (bench/road_frames.cpp): textured "
+             "repetitions (interleaved at random with every other benchmark's, so that the "
+             "machine's drift during the run falls on all alike), CPU time per frame; both "
+             "implementations ran in the same process and the same run. Frames: generated roads (bench/road_frames.cpp): textured "
              "asphalt around the half-binary threshold, a solid and a dashed marker, a car, "
              "1 mm depth noise, depth holes, the paper's parameters (`Params::paper()`, except where a table says improved), templates adapted "
              "by PCA as in a drive.")
