@@ -54,6 +54,16 @@ void matchLengths(MarkerTrace& m) {
   if (m.scores.size() > m.pixels.size()) m.scores.resize(m.pixels.size());
 }
 
+
+// The processing pixel of input pixel @p p (pixel centres scaled; columns rounded toward the
+// image centre, as the tracing does).
+cv::Point processingPixel(const CandidateFrame& f, const cv::Point2f& p) {
+  return cv::Point(
+      roundColumn((p.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5, f.proc_size.width),
+      static_cast<int>(
+          std::lround((p.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5)));
+}
+
 }  // namespace
 
 void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
@@ -220,8 +230,8 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
                           !roadAround(f, m.seed)))
     return false;
   if (f.filled != nullptr) {
-    const int px = roundColumn((m.seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5, f.proc_size.width);
-    const int py = static_cast<int>(std::lround((m.seed.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5));
+    const cv::Point q = processingPixel(f, m.seed);
+    const int px = q.x, py = q.y;
     if (px >= 0 && py >= 0 && px < f.filled->cols && py < f.filled->rows && f.filled->at<uint8_t>(py, px) != 0)
       return false;
   }
@@ -252,10 +262,8 @@ bool BoundaryCandidateFinder::roadAround(const CandidateFrame& f, const cv::Poin
   // the measured points (not the plane filled in) around the seed's processing pixel: on the
   // road, and agreeing with each other (clean depth), so that the seed's own point, off the
   // road, is a stray return (a scan line's end); on noisy depth no point can be told stray
-  const int cx = roundColumn((seed.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5,
-                             f.proc_size.width);
-  const int cy = static_cast<int>(
-      std::lround((seed.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5));
+  const cv::Point c = processingPixel(f, seed);
+  const int cx = c.x, cy = c.y;
   const int h = std::max(1, params_.template_size / 4);
   const cv::Rect box = cv::Rect(cx - h, cy - h, 2 * h + 1, 2 * h + 1) & f.roi;
   const Eigen::Vector3f n = f.road->normal.cast<float>();
