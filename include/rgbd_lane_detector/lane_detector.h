@@ -146,14 +146,18 @@ class LaneDetector {
   void fuseResponses();
   /// A side acquires this frame (its acquisition template is matched too).
   bool acquiring() const { return acquiring_[0] || acquiring_[1]; }
-  /// The match maps: both sides', then both acquisition maps (used when acquiring()).
+  /// The match maps of this frame: both sides', then the acquisition map of each side that
+  /// acquires (a side with a tracked boundary has none: its map is neither matched nor read).
   cv::Mat* const* matchMaps() {
     match_maps_[0] = &response_left_;
     match_maps_[1] = &response_right_;
-    match_maps_[2] = &acquisition_response_left_;
-    match_maps_[3] = &acquisition_response_right_;
+    int n = 2;
+    if (acquiring_[0]) match_maps_[n++] = &acquisition_response_left_;
+    if (acquiring_[1]) match_maps_[n++] = &acquisition_response_right_;
     return match_maps_;
   }
+  /// How many maps matchMaps() holds.
+  int matchMapCount() const { return 2 + int{acquiring_[0]} + int{acquiring_[1]}; }
   /// 6.-7. Each side's seeds, PCA angles and traced lines (BoundaryCandidateFinder).
   void traceCandidates(const Frame& frame);
   /// What each traced line is: paint, road edge or no boundary (improved mode).

@@ -76,7 +76,8 @@ void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const c
  * @param[in] points CV_32FC3 organised points (the maps' size).
  * @param[in] plane the previous frame's plane (valid).
  * @param[in] max_off,tau applyPlaneGate()'s.
- * @param[in,out] maps @p count (2 or 4) CV_32FC1 maps, pairs (left, right) in turn.
+ * @param[in,out] maps @p count (1 to 4) CV_32FC1 maps, pairs (left, right) in turn; an odd last
+ *            map is gated alone (as paired with itself).
  * @param[in] tau_g,rows,mask fusionMask()'s.
  */
 void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float max_off, float tau,

@@ -265,9 +265,11 @@ void LaneDetector::matchTemplates() {
   // 4. matching, with the acquisition templates too for the sides that acquire: one pass (the
   // window sums shared), each map as its template alone gives it
   const StageTimer timer(timings_.matching);
-  const LineTemplate* templates[4] = {&left_template_, &right_template_, &acquisition_left_,
-                                      &acquisition_right_};
-  matcher_.match(half_binary_, roi_, templates, matchMaps(), acquiring() ? 4 : 2);
+  const LineTemplate* templates[4] = {&left_template_, &right_template_};
+  int n = 2;
+  if (acquiring_[0]) templates[n++] = &acquisition_left_;
+  if (acquiring_[1]) templates[n++] = &acquisition_right_;
+  matcher_.match(half_binary_, roi_, templates, matchMaps(), n);
 }
 
 void LaneDetector::gateByPlane() {
@@ -279,9 +281,11 @@ void LaneDetector::gateByPlane() {
   const float max_off = static_cast<float>(p.plane_gate);
   const float tau = static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
   applyPlaneGate(points_, roi_rows_, previous, max_off, tau, response_left_, response_right_);
+  // (one acquiring side: its map gated alone, as its own pair)
+  cv::Mat* const* maps = matchMaps();
   if (acquiring())
-    applyPlaneGate(points_, roi_rows_, previous, max_off, tau, acquisition_response_left_,
-                   acquisition_response_right_);
+    applyPlaneGate(points_, roi_rows_, previous, max_off, tau, *maps[2],
+                   *maps[matchMapCount() - 1]);
 }
 
 void LaneDetector::maskFusion(bool gate) {
@@ -291,15 +295,20 @@ void LaneDetector::maskFusion(bool gate) {
     const Params& p = params_;
     const float low = static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
     gatedFusionMask(points_, fitter_.previousPlane(), static_cast<float>(p.plane_gate), low,
-                    matchMaps(), acquiring() ? 4 : 2, tau, roi_rows_, fusion_mask_);
+                    matchMaps(), matchMapCount(), tau, roi_rows_, fusion_mask_);
     return;
   }
-  if (acquiring())
-    fusionMask({&response_left_, &response_right_, &acquisition_response_left_,
-                &acquisition_response_right_},
-               tau, roi_rows_, fusion_mask_);
-  else
-    fusionMask({&response_left_, &response_right_}, tau, roi_rows_, fusion_mask_);
+  cv::Mat* const* maps = matchMaps();
+  switch (matchMapCount()) {
+    case 2:
+      fusionMask({maps[0], maps[1]}, tau, roi_rows_, fusion_mask_);
+      break;
+    case 3:
+      fusionMask({maps[0], maps[1], maps[2]}, tau, roi_rows_, fusion_mask_);
+      break;
+    default:
+      fusionMask({maps[0], maps[1], maps[2], maps[3]}, tau, roi_rows_, fusion_mask_);
+  }
 }
 
 void LaneDetector::fuseResponses() {
@@ -307,17 +316,11 @@ void LaneDetector::fuseResponses() {
   const StageTimer timer(timings_.response);
   const float tau = static_cast<float>(params_.tau_g);
   if (!full_geometric_) {  // G where the fusion mask is: R = M elsewhere
-    fuseResponseMasked(matchMaps(), acquiring() ? 4 : 2, geometric_, tau, roi_rows_, fusion_mask_);
+    fuseResponseMasked(matchMaps(), matchMapCount(), geometric_, tau, roi_rows_, fusion_mask_);
     return;
   }
-  fuseResponse(response_left_, geometric_, tau, roi_rows_, response_left_);
-  fuseResponse(response_right_, geometric_, tau, roi_rows_, response_right_);
-  if (acquiring()) {
-    fuseResponse(acquisition_response_left_, geometric_, tau, roi_rows_,
-                 acquisition_response_left_);
-    fuseResponse(acquisition_response_right_, geometric_, tau, roi_rows_,
-                 acquisition_response_right_);
-  }
+  cv::Mat* const* maps = matchMaps();
+  for (int i = 0; i < matchMapCount(); ++i) fuseResponse(*maps[i], geometric_, tau, roi_rows_, *maps[i]);
 }
 
 const CandidateFrame& LaneDetector::candidateFrame(const Frame& frame) {

@@ -191,7 +191,7 @@ void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const c
 void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float max_off, float tau,
                      cv::Mat* const* maps, int count, float tau_g, const cv::Range& rows,
                      cv::Mat& mask) {
-  CV_Assert(count % 2 == 0 && count > 0 && count <= kMaxFusedMaps);
+  CV_Assert(count > 0 && count <= kMaxFusedMaps);
   const cv::Size size = maps[0]->size();
   for (int i = 0; i < count; ++i) CV_Assert(maps[i]->type() == CV_32FC1 && maps[i]->size() == size);
   CV_Assert(points.type() == CV_32FC3 && points.size() == size);
@@ -219,9 +219,9 @@ void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float ma
     }
     auto gateAndMask = [&](int j) {
       const float* p = q + 3 * j;
-      for (int k = 0; k < count; k += 2) {
+      for (int k = 0; k < count; k += 2) {  // (an odd last map: its own pair)
         float& ml = row[k][j];
-        float& mr = row[k + 1][j];
+        float& mr = row[std::min(k + 1, count - 1)][j];
         if (ml < tau && mr < tau) continue;
         if (std::fabs(nx * p[0] + ny * p[1] + nz * p[2] + pd) > max_off) ml = mr = 0.f;
       }

@@ -1,4 +1,5 @@
 // Geometric map G (Eq. 2, both depth terms) and fused response R (Eq. 3), hand-computed.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -120,7 +121,8 @@ TEST(ResponseMap, FusionMaskIsAnyMapAtTauOrAbove) {
 
 // The one-pass forms the detector runs: gatedFusionMask() gives the maps and the mask of
 // applyPlaneGate() on each pair then fusionMask(), and fuseResponseMasked() the maps of
-// fuseResponse(), bit for bit, on every target, for 2 and 4 maps.
+// fuseResponse(), bit for bit, on every target, for 2, 3 and 4 maps (three: both sides' and one
+// acquiring side's; the odd map is gated alone, as applyPlaneGate() with it as its own pair).
 TEST(ResponseMap, OnePassGateMaskAndFusionAreTheSeparatePasses) {
   const cv::Size size(45, 11);
   const float tau = 0.3f, tau_g = 0.5f, max_off = 0.2f;
@@ -153,7 +155,7 @@ TEST(ResponseMap, OnePassGateMaskAndFusionAreTheSeparatePasses) {
   const cv::Range rows(1, 10);
   for (simd::Target target : simd::availableTargets()) {
     simd::forceTarget(target);
-    for (int count : {2, 4}) {
+    for (int count : {2, 3, 4}) {
       SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", " << count << " maps");
       cv::Mat a[kMaxFusedMaps], b[kMaxFusedMaps];
       cv::Mat* pa[kMaxFusedMaps];
@@ -165,9 +167,11 @@ TEST(ResponseMap, OnePassGateMaskAndFusionAreTheSeparatePasses) {
       cv::Mat mask_a, mask_b;
       gatedFusionMask(points, plane, max_off, tau, pa, count, tau_g, rows, mask_a);
       for (int i = 0; i < count; i += 2)
-        applyPlaneGate(points, rows, plane, max_off, tau, b[i], b[i + 1]);
+        applyPlaneGate(points, rows, plane, max_off, tau, b[i], b[std::min(i + 1, count - 1)]);
       if (count == 2)
         fusionMask({&b[0], &b[1]}, tau_g, rows, mask_b);
+      else if (count == 3)
+        fusionMask({&b[0], &b[1], &b[2]}, tau_g, rows, mask_b);
       else
         fusionMask({&b[0], &b[1], &b[2], &b[3]}, tau_g, rows, mask_b);
       EXPECT_EQ(cv::countNonZero(mask_a != mask_b), 0);
