@@ -31,6 +31,17 @@ void storePoints(DF df, hn::Mask<DF> keep, hn::Vec<DF> d, const float* ax, float
                         hn::IfThenElse(keep, d, nan), df, dst);
 }
 
+// A vector of N columns without depth: three vectors of NaN (what storePoints() stores where no
+// lane is kept, without the products and the interleaving; a sparse LiDAR's rows are mostly this).
+template <class DF>
+void storeNaN(DF df, float* dst) {
+  const auto nan = hn::Set(df, std::numeric_limits<float>::quiet_NaN());
+  const size_t N = hn::Lanes(df);
+  hn::StoreU(nan, df, dst);
+  hn::StoreU(nan, df, dst + N);
+  hn::StoreU(nan, df, dst + 2 * N);
+}
+
 // The depth block map of a vector of N columns from x: its blocks (one when N divides
 // kDepthBlock) hold depth when any lane is kept.
 template <class DF>
@@ -60,6 +71,10 @@ int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float
   for (; x + N <= w; x += N) {
     const auto raw = hn::PromoteTo(d32, hn::LoadU(d16, src + x));
     const auto in = hn::And(hn::Gt(raw, hn::Set(d32, lo - 1)), hn::Lt(raw, hn::Set(d32, hi + 1)));
+    if (hn::AllFalse(d32, in)) {  // (no block to mark either)
+      storeNaN(df, dst + 3 * x);
+      continue;
+    }
     const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
     const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
     storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
@@ -81,6 +96,10 @@ int rowF32(const float* src, int w, float lo, float hi, const float* ax, float r
     const auto d = hn::LoadU(df, src + x);
     const auto ok =
         hn::And(hn::And(hn::Gt(d, zero), hn::Lt(d, inf)), hn::And(hn::Ge(d, vlo), hn::Le(d, vhi)));
+    if (hn::AllFalse(df, ok)) {
+      storeNaN(df, dst + 3 * x);
+      continue;
+    }
     storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
     markBlocks(df, ok, x, N, blocks);
   }
