@@ -91,13 +91,17 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
     const auto py = hn::DemoteTo(df, hn::Mul(ry, t));
     const auto pz = hn::DemoteTo(df, t);
     float* p = f.row + 3 * x;
-    const auto fill_f = hn::RebindMask(df, fill);
-    hn::Vec<decltype(df)> ox, oy, oz;
-    hn::LoadInterleaved3(df, p, ox, oy, oz);
-    hn::StoreInterleaved3(hn::IfThenElse(fill_f, px, ox), hn::IfThenElse(fill_f, py, oy),
-                          hn::IfThenElse(fill_f, pz, oz), df, p);
-    const auto old_mark = hn::PromoteTo(di, hn::LoadU(d8, f.mark + x));
-    hn::StoreU(hn::DemoteTo(d8, hn::IfThenElse(fill, full_i, old_mark)), d8, f.mark + x);
+    if (hn::AllTrue(di, fill)) {  // (most vectors below the depth: nothing of the old to keep)
+      hn::StoreInterleaved3(px, py, pz, df, p);
+    } else {
+      const auto fill_f = hn::RebindMask(df, fill);
+      hn::Vec<decltype(df)> ox, oy, oz;
+      hn::LoadInterleaved3(df, p, ox, oy, oz);
+      hn::StoreInterleaved3(hn::IfThenElse(fill_f, px, ox), hn::IfThenElse(fill_f, py, oy),
+                            hn::IfThenElse(fill_f, pz, oz), df, p);
+    }
+    // (the mask's row is 0 until this row is filled: extendToCamera() clears it)
+    hn::StoreU(hn::DemoteTo(d8, hn::IfThenElseZero(fill, full_i)), d8, f.mark + x);
     filled += static_cast<int>(hn::CountTrue(di, fill));
   }
   *count += filled;
