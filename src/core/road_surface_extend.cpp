@@ -87,9 +87,9 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
     const auto den0 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x), ny_ry), nz);
     const auto den1 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x + H), ny_ry), nz);
     // both conditions in float lanes (each double mask as 1 or 0)
-    const auto hit = hn::Eq(hn::Combine(df, hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den1, limit), one)),
-                                        hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den0, limit), one))),
-                            one_f);
+    const auto hit0 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den0, limit), one));
+    const auto hit1 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den1, limit), one));
+    const auto hit = hn::Eq(hn::Combine(df, hit1, hit0), one_f);
     const auto fill = hn::And(open, hn::RebindMask(di, hit));
     if (hn::AllFalse(di, fill)) continue;
     const auto t0 = hn::Div(neg_d, den0), t1 = hn::Div(neg_d, den1);
