@@ -12,6 +12,13 @@
 #include <vector>
 
 #include "simd.h"
+
+namespace rgbd_lane_detector {
+namespace {
+// Source columns per chunk of a resampled 16-bit row told empty (all 0) at once.
+constexpr int kChunk = 32;
+}  // namespace
+}  // namespace rgbd_lane_detector
 #endif
 
 #ifdef RLD_HAVE_HWY
@@ -29,6 +36,41 @@ void storePoints(DF df, hn::Mask<DF> keep, hn::Vec<DF> d, const float* ax, float
   hn::StoreInterleaved3(hn::IfThenElse(keep, hn::Mul(hn::LoadU(df, ax), d), nan),
                         hn::IfThenElse(keep, hn::Mul(hn::Set(df, ry), d), nan),
                         hn::IfThenElse(keep, d, nan), df, dst);
+}
+
+// A vector of N columns without depth: three vectors of NaN (what storePoints() stores where no
+// lane is kept, without the products and the interleaving; a sparse LiDAR's rows are mostly this).
+template <class DF>
+void storeNaN(DF df, float* dst) {
+  const auto nan = hn::Set(df, std::numeric_limits<float>::quiet_NaN());
+  const size_t N = hn::Lanes(df);
+  hn::StoreU(nan, df, dst);
+  hn::StoreU(nan, df, dst + N);
+  hn::StoreU(nan, df, dst + 2 * N);
+}
+
+// Per chunk of kChunk 16-bit source values: 1 when any is not 0 (raw 0 is no depth). Returns
+// the chunks done (all, or none when a vector is wider than a chunk).
+int chunksWithDepth(const uint16_t* src, int chunks, uint8_t* out) {
+  const hn::ScalableTag<uint16_t> d;
+  const int N = static_cast<int>(hn::Lanes(d));
+  if (N > kChunk) return 0;
+  for (int c = 0; c < chunks; ++c) {
+    const uint16_t* p = src + c * kChunk;
+    auto any = hn::LoadU(d, p);
+    for (int k = N; k < kChunk; k += N) any = hn::Or(any, hn::LoadU(d, p + k));
+    out[c] = !hn::AllTrue(d, hn::Eq(any, hn::Zero(d)));
+  }
+  return chunks;
+}
+
+// NaN points at the n columns from dst. Returns the columns done.
+int nanColumns(float* dst, int n) {
+  const hn::ScalableTag<float> df;
+  const int N = static_cast<int>(hn::Lanes(df));
+  int x = 0;
+  for (; x + N <= n; x += N) storeNaN(df, dst + 3 * x);
+  return x;
 }
 
 // The depth block map of a vector of N columns from x: its blocks (one when N divides
@@ -60,6 +102,10 @@ int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float
   for (; x + N <= w; x += N) {
     const auto raw = hn::PromoteTo(d32, hn::LoadU(d16, src + x));
     const auto in = hn::And(hn::Gt(raw, hn::Set(d32, lo - 1)), hn::Lt(raw, hn::Set(d32, hi + 1)));
+    if (hn::AllFalse(d32, in)) {  // (no block to mark either)
+      storeNaN(df, dst + 3 * x);
+      continue;
+    }
     const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
     const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
     storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
@@ -81,6 +127,10 @@ int rowF32(const float* src, int w, float lo, float hi, const float* ax, float r
     const auto d = hn::LoadU(df, src + x);
     const auto ok =
         hn::And(hn::And(hn::Gt(d, zero), hn::Lt(d, inf)), hn::And(hn::Ge(d, vlo), hn::Le(d, vhi)));
+    if (hn::AllFalse(df, ok)) {
+      storeNaN(df, dst + 3 * x);
+      continue;
+    }
     storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
     markBlocks(df, ok, x, N, blocks);
   }
@@ -101,9 +151,13 @@ int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, fl
 int rowF32Scalar(const float*, int, float, float, const float*, float, float*, uint8_t*) {
   return 0;
 }
+int chunksWithDepthScalar(const uint16_t*, int, uint8_t*) { return 0; }
+int nanColumnsScalar(float*, int) { return 0; }
 #ifdef RLD_HAVE_HWY
 HWY_EXPORT(rowU16);
 HWY_EXPORT(rowF32);
+HWY_EXPORT(chunksWithDepth);
+HWY_EXPORT(nanColumns);
 #endif
 
 // Raw values r with d = r * scale inside [min_depth, max_depth] and r != 0: an interval, since
@@ -203,39 +257,97 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
       ax[x] = static_cast<float>(((col_map ? col_map[x] : x) - K.cx) * inv_fx);
     if (col_map && static_cast<int>(gathered.size()) < w) gathered.resize(w);
   }
+  // resampled 16-bit depth: the source chunks (kChunk columns) of each block of kDepthBlock
+  // processing columns; a block whose chunks hold only 0 has no depth (no gather, no conversion)
+  thread_local std::vector<int> spans;
+  thread_local std::vector<uint8_t> chunk_any;
+  const int nb = (w + kDepthBlock - 1) / kDepthBlock;
+  const int nc = (depth.cols + kChunk - 1) / kChunk;
+  const bool by_blocks = vec && u16 && col_map;
+  if (by_blocks) {
+    if (static_cast<int>(spans.size()) < 2 * nb) spans.resize(2 * nb);
+    if (static_cast<int>(chunk_any.size()) < nc) chunk_any.resize(nc);
+    for (int b = 0; b < nb; ++b) {
+      spans[2 * b] = col_map[b * kDepthBlock] / kChunk;
+      spans[2 * b + 1] = col_map[std::min(w, (b + 1) * kDepthBlock) - 1] / kChunk;
+    }
+  }
   for (int y = r0; y < r1; ++y) {
     const int sy = row_map ? row_map[y] : y;
     const T* src = depth.ptr<T>(sy);
     float* dst = points.ptr<float>(y);
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
+    uint8_t* bl = blocks ? blocks->ptr<uint8_t>(y) : nullptr;  // marked as the row is made
+    if (bl) std::memset(bl, 0, blocks->cols);
+    // columns [x0, x1) of the row, row[x] the depth of processing column x
+    auto convert = [&](const T* row, int x0, int x1) {
+      int x = x0;
+      uint8_t* b = bl ? bl + x0 / kDepthBlock : nullptr;  // (x0: a block's first column)
+      if (vec && u16)
+        x += RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(row) + x0, x1 - x0,
+                                  decode.scale, raw_lo, raw_hi, ax.data() + x0, ry, dst + 3 * x0,
+                                  b);
+      else if (vec)
+        x += RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(row) + x0, x1 - x0, f_lo, f_hi,
+                                  ax.data() + x0, ry, dst + 3 * x0, b);
+      for (; x < x1; ++x) {
+        const int sx = col_map ? col_map[x] : x;
+        const float d = decode(src[sx]);
+        float* q = dst + 3 * x;
+        if (std::isnan(d)) {
+          q[0] = q[1] = q[2] = nan;
+          continue;
+        }
+        q[0] = static_cast<float>((sx - K.cx) * inv_fx) * d;
+        q[1] = ry * d;
+        q[2] = d;
+        if (bl) bl[x / kDepthBlock] = 1;
+      }
+    };
+    if (vec && col_map && y + 1 < r1)
+      prefetchRow(depth.ptr<uint8_t>(row_map[y + 1]), depth.cols * sizeof(T));
+    if (by_blocks) {
+      // runs of blocks with a source value other than 0 gathered and converted, the others NaN
+      // (raw 0 is no depth; most of a sparse LiDAR's row)
+      if constexpr (std::is_same<T, uint16_t>::value) {
+        const int full = depth.cols / kChunk;
+        int c = RLD_DISPATCH(chunksWithDepth)(src, full, chunk_any.data());
+        for (; c < nc; ++c) {
+          unsigned any = 0;
+          for (int i = c * kChunk; i < std::min(depth.cols, (c + 1) * kChunk); ++i) any |= src[i];
+          chunk_any[c] = any != 0;
+        }
+      }
+      auto empty = [&](int b) {
+        for (int c = spans[2 * b]; c <= spans[2 * b + 1]; ++c)
+          if (chunk_any[c]) return false;
+        return true;
+      };
+      for (int b = 0; b < nb;) {
+        int e = b;
+        while (e < nb && !empty(e)) ++e;
+        if (e > b) {
+          const int x0 = b * kDepthBlock, x1 = std::min(w, e * kDepthBlock);
+          for (int x = x0; x < x1; ++x) gathered[x] = src[col_map[x]];
+          convert(gathered.data(), x0, x1);
+          b = e;
+          if (b == nb) break;
+        }
+        // empty blocks from b on: NaN points
+        for (e = b + 1; e < nb && empty(e);) ++e;
+        const int x0 = b * kDepthBlock, x1 = std::min(w, e * kDepthBlock);
+        const int x = x0 + RLD_DISPATCH(nanColumns)(dst + 3 * x0, x1 - x0);
+        std::fill(dst + 3 * x, dst + 3 * x1, nan);
+        b = e;
+      }
+      continue;
+    }
     const T* row = src;  // the row's depth by processing column
     if (vec && col_map) {
-      if (y + 1 < r1) prefetchRow(depth.ptr<uint8_t>(row_map[y + 1]), depth.cols * sizeof(T));
       for (int x = 0; x < w; ++x) gathered[x] = src[col_map[x]];
       row = gathered.data();
     }
-    uint8_t* bl = blocks ? blocks->ptr<uint8_t>(y) : nullptr;  // marked as the row is made
-    if (bl) std::memset(bl, 0, blocks->cols);
-    int x = 0;
-    if (vec && u16)
-      x = RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(row), w, decode.scale, raw_lo,
-                               raw_hi, ax.data(), ry, dst, bl);
-    else if (vec)
-      x = RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(row), w, f_lo, f_hi, ax.data(), ry,
-                               dst, bl);
-    for (; x < w; ++x) {
-      const int sx = col_map ? col_map[x] : x;
-      const float d = decode(src[sx]);
-      float* q = dst + 3 * x;
-      if (std::isnan(d)) {
-        q[0] = q[1] = q[2] = nan;
-        continue;
-      }
-      q[0] = static_cast<float>((sx - K.cx) * inv_fx) * d;
-      q[1] = ry * d;
-      q[2] = d;
-      if (bl) bl[x / kDepthBlock] = 1;
-    }
+    convert(row, 0, w);
   }
 }
 

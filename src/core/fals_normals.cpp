@@ -221,10 +221,18 @@ bool FalsNormals::solveWindow(int x, int y, const float* const* kv, const float*
       v[7] += fv * fv;
     }
   }
+  // the count first: fewer than 3 valid pixels solve nothing (most windows on a sparse LiDAR's
+  // depth); then the other sums, where a column without a valid pixel adds nothing (its sums
+  // are +0, and no sum here is -0: skipping it keeps every bit)
+  double N = 0;
+  for (int xx = std::max(0, x - h); xx <= std::min(W - 1, x + h); ++xx)
+    N += column_[kColumnSums * xx + 5];
+  if (N < 3.0) return false;
   double K0 = 0, Ku = 0, Kv = 0, Kuu = 0, Kuv = 0, Kvv = 0, T0 = 0, Tu = 0, Tv = 0;
-  double N = 0, Nu = 0, Nuu = 0, Nv = 0, Nvv = 0;
+  double Nu = 0, Nuu = 0, Nv = 0, Nvv = 0;
   for (int xx = std::max(0, x - h); xx <= std::min(W - 1, x + h); ++xx) {
     const double* v = &column_[kColumnSums * xx];
+    if (v[5] == 0.0) continue;
     const double fu = src_u_[xx] - src_u_[x];
     K0 += v[0];
     Ku += fu * v[0];
@@ -235,7 +243,6 @@ bool FalsNormals::solveWindow(int x, int y, const float* const* kv, const float*
     T0 += v[3];
     Tu += fu * v[3];
     Tv += v[4];
-    N += v[5];
     Nu += fu * v[5];
     Nuu += fu * fu * v[5];
     Nv += v[6];

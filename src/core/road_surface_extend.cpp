@@ -64,40 +64,52 @@ inline int fillTail(const FillRow& f, int c, int w) {
 
 RLD_KERNELS_BEGIN
 
-// fillTail() on whole vectors of columns, lane for lane (double lanes; the points' floats and
-// the mask bytes blended where a lane fills). Returns the columns done; *count += the points.
+// fillTail() on whole float vectors of columns, lane for lane (the ray in two double halves;
+// the points' floats and the mask bytes blended where a lane fills). Returns the columns done;
+// *count += the points.
 int fillRowKernel(const FillRow& f, int w, int* count) {
-  const hn::ScalableTag<double> d;
-  const hn::Rebind<int32_t, decltype(d)> di;
-  const hn::Rebind<float, decltype(d)> df;
-  const hn::Rebind<uint8_t, decltype(d)> d8;
-  const int N = static_cast<int>(hn::Lanes(d));
+  const hn::ScalableTag<float> df;
+  const hn::Half<decltype(df)> dfh;
+  const hn::Rebind<double, decltype(dfh)> d;  // half as many lanes as df
+  const hn::RebindToSigned<decltype(df)> di;
+  const hn::Rebind<uint8_t, decltype(di)> d8;
+  const int N = static_cast<int>(hn::Lanes(df)), H = static_cast<int>(hn::Lanes(d));
   const auto below = hn::Set(di, f.v + 1);
-  const auto ny_ry = hn::Set(d, f.ny_ry), nz = hn::Set(d, f.nz),
+  const auto ny_ry = hn::Set(d, f.ny_ry), nz = hn::Mul(hn::Set(d, f.nz), hn::Set(d, 1.0)),
              limit = hn::Set(d, -1e-9), neg_d = hn::Set(d, f.neg_d), ry = hn::Set(d, f.ry),
              one = hn::Set(d, 1.0);
-  const auto one_i = hn::Set(di, 1), full_i = hn::Set(di, 255);
+  const auto one_f = hn::Set(df, 1.f);
+  const auto full_i = hn::Set(di, 255);
   int x = 0, filled = 0;
   for (; x + N <= w; x += N) {
     const auto open = hn::Lt(hn::LoadU(di, f.from + x), below);  // f.v >= from
     if (hn::AllFalse(di, open)) continue;
-    const auto den = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x), ny_ry), hn::Mul(nz, one));
-    const auto hit = hn::Lt(den, limit);
-    // both conditions in int32 lanes (the double mask as 1 or 0)
-    const auto fill = hn::And(open, hn::Eq(hn::DemoteTo(di, hn::IfThenElseZero(hit, one)), one_i));
+    const auto den0 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x), ny_ry), nz);
+    const auto den1 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x + H), ny_ry), nz);
+    // both conditions in float lanes (each double mask as 1 or 0)
+    const auto hit0 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den0, limit), one));
+    const auto hit1 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den1, limit), one));
+    const auto hit = hn::Eq(hn::Combine(df, hit1, hit0), one_f);
+    const auto fill = hn::And(open, hn::RebindMask(di, hit));
     if (hn::AllFalse(di, fill)) continue;
-    const auto t = hn::Div(neg_d, den);
-    const auto px = hn::DemoteTo(df, hn::Mul(hn::LoadU(d, f.rx + x), t));
-    const auto py = hn::DemoteTo(df, hn::Mul(ry, t));
-    const auto pz = hn::DemoteTo(df, t);
+    const auto t0 = hn::Div(neg_d, den0), t1 = hn::Div(neg_d, den1);
+    const auto px = hn::Combine(df, hn::DemoteTo(dfh, hn::Mul(hn::LoadU(d, f.rx + x + H), t1)),
+                                hn::DemoteTo(dfh, hn::Mul(hn::LoadU(d, f.rx + x), t0)));
+    const auto py = hn::Combine(df, hn::DemoteTo(dfh, hn::Mul(ry, t1)),
+                                hn::DemoteTo(dfh, hn::Mul(ry, t0)));
+    const auto pz = hn::Combine(df, hn::DemoteTo(dfh, t1), hn::DemoteTo(dfh, t0));
     float* p = f.row + 3 * x;
-    const auto fill_f = hn::RebindMask(df, fill);
-    hn::Vec<decltype(df)> ox, oy, oz;
-    hn::LoadInterleaved3(df, p, ox, oy, oz);
-    hn::StoreInterleaved3(hn::IfThenElse(fill_f, px, ox), hn::IfThenElse(fill_f, py, oy),
-                          hn::IfThenElse(fill_f, pz, oz), df, p);
-    const auto old_mark = hn::PromoteTo(di, hn::LoadU(d8, f.mark + x));
-    hn::StoreU(hn::DemoteTo(d8, hn::IfThenElse(fill, full_i, old_mark)), d8, f.mark + x);
+    if (hn::AllTrue(di, fill)) {  // (most vectors below the depth: nothing of the old to keep)
+      hn::StoreInterleaved3(px, py, pz, df, p);
+    } else {
+      const auto fill_f = hn::RebindMask(df, fill);
+      hn::Vec<decltype(df)> ox, oy, oz;
+      hn::LoadInterleaved3(df, p, ox, oy, oz);
+      hn::StoreInterleaved3(hn::IfThenElse(fill_f, px, ox), hn::IfThenElse(fill_f, py, oy),
+                            hn::IfThenElse(fill_f, pz, oz), df, p);
+    }
+    // (the mask's row is 0 until this row is filled: extendToCamera() clears it)
+    hn::StoreU(hn::DemoteTo(d8, hn::IfThenElseZero(fill, full_i)), d8, f.mark + x);
     filled += static_cast<int>(hn::CountTrue(di, fill));
   }
   *count += filled;

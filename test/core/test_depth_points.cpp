@@ -208,5 +208,48 @@ TEST(DepthPoints, ResampledRowsAndTheDepthBlockMap) {
   simd::forceTarget(simd::kBest);
 }
 
+// A LiDAR's resampled row is mostly source spans of raw 0, which are passed over without a
+// gather: the points next to them, the span at the row's end (a source chunk shorter than the
+// others) and the block map stay the scalar definition on every target.
+TEST(DepthPoints, ResampledSparseRowsPassOverEmptySpans) {
+  cv::Mat mm(4, 203, CV_16UC1, cv::Scalar(0));
+  const int cols[] = {0, 31, 32, 95, 140, 141, 170, 202};  // chunk edges, the last column
+  for (int v = 0; v < 3; ++v)  // row 3 without depth
+    for (int k = 0; k < 8; ++k)
+      if ((k + v) % 3 != 0) mm.at<uint16_t>(v, cols[k]) = static_cast<uint16_t>(1000 + 37 * k + v);
+  const int w = 121;
+  cv::Mat col_map(1, w, CV_32SC1), row_map(1, 4, CV_32SC1);
+  for (int x = 0; x < w; ++x)
+    col_map.at<int>(x) = std::min(202, static_cast<int>((x + 0.5) * 203 / w));
+  for (int y = 0; y < 4; ++y) row_map.at<int>(y) = y;
+  DepthDecoder dec;
+  dec.scale = 0.0013;
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    SCOPED_TRACE(simd::targetName(target));
+    cv::Mat p, blocks, again;
+    ASSERT_TRUE(depthToPoints(mm, dec, kK, cv::Range(0, 4), p, col_map, row_map, &blocks));
+    int with_depth = 0;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int u = col_map.at<int>(x);
+        const float d = dec(mm.at<uint16_t>(y, u));
+        const cv::Vec3f q = p.at<cv::Vec3f>(y, x);
+        if (std::isnan(d)) {
+          EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2])) << y << " " << x;
+          continue;
+        }
+        ++with_depth;
+        EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
+        EXPECT_EQ(q[1], static_cast<float>((y - kK.cy) * (1.0 / kK.fy)) * d);
+        EXPECT_EQ(q[2], d);
+      }
+    EXPECT_GT(with_depth, 6);
+    depthBlocks(p, cv::Range(0, 4), again);
+    EXPECT_EQ(cv::countNonZero(again != blocks), 0);
+  }
+  simd::forceTarget(simd::kBest);
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
