@@ -162,8 +162,10 @@ class BoundaryCandidateFinder {
   bool roadAround(const CandidateFrame& f, const cv::Point2f& seed);
   /// A followed painted line (input pixels, near to far) is one stroke of paint shorter than any
   /// lane line shows (a turn arrow's shaft, a stop line's stub): paint on a single stretch of
-  /// road under 8 m, where a dashed line shows two dashes and a solid line more length.
-  bool loneStroke(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels) const;
+  /// road under 8 m, where a dashed line shows two dashes and a solid line more length
+  /// (@p length: metres from its nearest to its farthest row).
+  bool loneStroke(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels,
+                  double* length = nullptr) const;
   /// seed_pixels_ followed row by row (BoundaryClassifier::followLine, paint sought within
   /// @p reach): true when enough rows were found (they replace seed_pixels_, with seed_points_).
   bool followed(const ClassifierInput& in, double reach);
@@ -174,11 +176,12 @@ class BoundaryCandidateFinder {
   /// metres of road without a row found; @p extent: metres from its nearest to its farthest row,
   /// @p painted: metres of it the stretches cover; @p rows_cover: metres of it the rows found
   /// cover, each up to the next one but at most its own spacing (kRowCell and one image row);
-  /// rows beyond @p max_forward are not counted.
+  /// rows beyond @p max_forward are not counted; with @p lone_points, neither are rows with no
+  /// other within half a metre of road (a raised pavement marker: no paint's stretch, no bridge).
   int paintStretches(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels, double gap,
                      double* extent = nullptr, double* painted = nullptr,
                      double max_forward = std::numeric_limits<double>::infinity(),
-                     double* rows_cover = nullptr) const;
+                     double* rows_cover = nullptr, bool lone_points = false) const;
   /// A narrow band taken for a rail head that comes in dashes when followed: worn paint.
   void dashedNarrowLine(const CandidateFrame& f, int side, BoundaryCandidate& c);
   /// Road edges the depth shows (RoadEdgeFinder) that no traced line found.

@@ -118,11 +118,10 @@ void BoundaryCandidateFinder::traceLines(const CandidateFrame& f, int side, cv::
     const bool implausible = pca.valid && !plausibleMarkerAngle(pca.angle, left);
     if (implausible) {
       peak_value = 0.f;
-      m.angle_valid = false;  // (a short dash's blob: followFromSeed() may still find its line)
-    }
-    if (count > first && !(peak_value > params_.trace_threshold)) {
-      excludeBox(f, R, peak);  // a further seed that is no marker: look past it
-      continue;
+      // (a short dash's blob, merged with the worn paint or texture beside it: followFromSeed()
+      // may still find its line; a further seed too: the best seed may be another line's, or
+      // a stretch of the same line that its follow cannot bridge)
+      m.angle_valid = false;
     }
     const Clock::time_point tt = Clock::now();
     buildTrace(f, R, peak, peak_value, m.angle, m);

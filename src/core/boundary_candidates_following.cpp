@@ -22,6 +22,9 @@ constexpr double kMaxSeedHeading = 25.0 * M_PI / 180.0;  // a followed seed's li
 constexpr double kStrokeGap = 1.0;     // m without paint between two dashes of a followed line
 constexpr double kRowsPerGap = 2.5;    // ... and more than this many image rows' road
 constexpr double kStrokeLength = 8.0;  // m: one stretch of paint this long is a line (no arrow)
+// m: a lone stroke shorter than the shortest lane-line dash (1 m, urban) is no lane line (a
+// fragment of a marking, a glint)
+constexpr double kMinStroke = 1.0;
 constexpr double kDashGap = 2.0;       // m without a narrow band between two dashes of worn paint
 constexpr int kMinDashes = 2;          // dashes that tell worn paint from a rail ...
 constexpr double kMaxDashCoverage = 0.6;  // ... where they cover at most this share of the line
@@ -32,6 +35,13 @@ constexpr double kDashRange = 25.0;    // m ahead within which the dashes are co
 // than its image row (the follower measures rows about that far apart)
 constexpr double kWornPaintRows = 0.25;
 constexpr double kRowCell = 0.1;
+// m of road around a row found within which another makes it part of a stretch of paint: rows
+// along paint are found every kFollowSpacing (0.1 m) or image row; a raised pavement marker is
+// 10 cm long
+constexpr double kLonePoint = 0.5;
+// share of a line's rows with paint width that make it paint somewhere (its lone rows raised
+// markers): a rail head or a seam measures none
+constexpr double kMarkerPaintRows = 0.1;
 constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
 constexpr double kEdgeReach = 0.3;   // m: a traced road edge this near a depth edge is the same
 constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
@@ -95,10 +105,18 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
                                params_.max_depth);
         if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_)) matchLengths(c.trace);
-        if (loneStroke(f, c.trace.pixels) && classifier_.arrowHead(in, c.trace.pixels, params_)) {
-          c.evidence.boundary = false;
-          c.evidence.reason = "lane arrow";
-          continue;
+        double stroke = 0.0;  // m of road a lone stroke covers
+        if (loneStroke(f, c.trace.pixels, &stroke)) {
+          if (stroke < kMinStroke) {  // (no marking's fragment is a lane line)
+            c.evidence.boundary = false;
+            c.evidence.reason = "short stroke";
+            continue;
+          }
+          if (classifier_.arrowHead(in, c.trace.pixels, params_)) {
+            c.evidence.boundary = false;
+            c.evidence.reason = "lane arrow";
+            continue;
+          }
         }
         classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
@@ -125,12 +143,20 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
 int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
                                             const std::vector<cv::Point2f>& pixels, double gap,
                                             double* extent, double* painted, double max_forward,
-                                            double* rows_cover) const {
+                                            double* rows_cover, bool lone_points) const {
   int stretches = 0;
   double near_f = std::numeric_limits<double>::infinity(), far_f = -near_f, last_f = 0.0;
   double start_f = 0.0, covered = 0.0, cells = 0.0, last_cell = 0.0;
   const RoadFrame& frame = classifier_input_.frame;
-  for (const auto& px : pixels) {  // near to far
+  // forward distance of pixels[i] (NaN: not on the road)
+  const auto forwardAt = [&](size_t i) {
+    Eigen::Vector2d q;
+    return i < pixels.size() && roadCoordinates(f, frame, pixels[i].x, pixels[i].y, q)
+               ? q.x()
+               : std::numeric_limits<double>::quiet_NaN();
+  };
+  for (size_t i = 0; i < pixels.size(); ++i) {  // near to far
+    const cv::Point2f& px = pixels[i];
     Eigen::Vector2d q, q1;
     if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
     const double fwd = q.x();
@@ -140,6 +166,16 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
     const double row_m = roadCoordinates(f, frame, px.x, px.y - 1.0, q1)
                              ? std::fabs(q1.x() - fwd)
                              : std::numeric_limits<double>::infinity();
+    if (lone_points) {
+      // a row found with no other within kLonePoint of road (kRowsPerGap rows far away) is a
+      // point on the line (a raised pavement marker, a grain of paint): no stretch of paint,
+      // and no bridge between two
+      const double near_gap =
+          std::max(kLonePoint, kRowsPerGap * (std::isfinite(row_m) ? row_m : 0.0));
+      const double before = i > 0 ? forwardAt(i - 1) : std::numeric_limits<double>::quiet_NaN();
+      const double after = forwardAt(i + 1);
+      if (!(std::fabs(before - fwd) <= near_gap) && !(std::fabs(after - fwd) <= near_gap)) continue;
+    }
     if (stretches > 0) cells += std::min(last_cell, std::fabs(fwd - last_f));
     last_cell = kRowCell + (std::isfinite(row_m) ? row_m : 0.0);
     if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {
@@ -184,10 +220,14 @@ bool BoundaryCandidateFinder::runsAhead(const CandidateFrame& f,
 }
 
 bool BoundaryCandidateFinder::loneStroke(const CandidateFrame& f,
-                                          const std::vector<cv::Point2f>& pixels) const {
+                                          const std::vector<cv::Point2f>& pixels,
+                                          double* length) const {
   // paint on two stretches (dashes) or over a length no arrow has is a lane line
   double extent = 0.0;
-  return paintStretches(f, pixels, kStrokeGap, &extent) < 2 && !(extent >= kStrokeLength);
+  const bool lone =
+      paintStretches(f, pixels, kStrokeGap, &extent) < 2 && !(extent >= kStrokeLength);
+  if (length) *length = extent;
+  return lone;
 }
 
 void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side,
@@ -205,10 +245,13 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   // within kDashRange, where a rail head is resolved on every row (farther, any thin line
   // breaks up)
   double rows_cover = 0.0;
-  const int dashes =
-      paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange, &rows_cover);
-  // raised markers between worn dashes join them into stretches: on a line that measures paint
-  // width on enough of its rows (no rail head, seam or crack does), the rows found tell the cover
+  // (on a line that measures paint width on some of its rows, a raised marker found alone in a
+  // dash gap is no stretch of paint and joins no dashes)
+  const bool markers = c.evidence.paint_rows >= kMarkerPaintRows * c.evidence.rows;
+  const int dashes = paintStretches(f, seed_pixels_, kDashGap, &extent, &painted, kDashRange,
+                                    &rows_cover, markers);
+  // markers nearer each other join dashes into stretches: on a line that measures paint width
+  // on enough of its rows (no rail head, seam or crack does), the rows found tell the cover
   if (c.evidence.paint_rows >= kWornPaintRows * c.evidence.rows) painted = rows_cover;
   if (dashes < kMinDashes || painted > kMaxDashCoverage * extent) return;
   c.trace.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());

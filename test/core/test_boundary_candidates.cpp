@@ -240,6 +240,21 @@ TEST(BoundaryCandidateFinder, WornDashesJoinedByMarkersArePaint) {
   EXPECT_GE(test::roadForward(c.trace.pixels.back()), 12.0);  // followed across the markers
 }
 
+TEST(BoundaryCandidateFinder, ALoneMarkerJoinsNoWornDashes) {
+  // worn dashes from 4 to 7 m and from 10 to 11 m (paint width on the first 0.4 m, a quarter of
+  // the rows measured, a 5 cm core elsewhere) and one raised marker, 0.1 m long, in the 3 m gap
+  // between them: a point on the line, which joins the dashes into no stretch (one stretch
+  // would cover the whole line, as a rail head does)
+  const BoundaryCandidate c = narrowLine(
+      [](double z) {
+        return (z >= 4.0 && z < 7.0) || (z >= 8.45 && z < 8.55) || (z >= 10.0 && z < 11.0);
+      },
+      11.0, [](double z) { return z < 4.4 ? 0.12 : 0.05; });
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
+}
+
 TEST(BoundaryCandidateFinder, NarrowLineWithoutPaintWidthJoinedByMarkersIsARailHead) {
   // the same line no row of which measures paint width (a rail head, a seam): its stretches
   // tell its cover, as before
