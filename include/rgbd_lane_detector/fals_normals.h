@@ -113,6 +113,10 @@ class FalsNormals {
   static constexpr int kColumnSums = 8;
   std::vector<double> column_;   ///< exact path: per column, sums over the window's rows
   std::vector<int> column_row_;  ///< row whose sums column_ holds, per column
+  std::vector<double> exact_cols_;  ///< vector exact path: column sums, 8 planes padded by h
+  std::vector<double> exact_su_;    ///< src_u_ padded by h (clamped) each side
+  std::vector<float> exact_n_;      ///< its unit normals (3 planes) where normals are wanted
+  std::vector<uint8_t> exact_ok_;   ///< and whether each column has one
   // with a mask (run()): bits of 16-column units per output row
   std::vector<uint64_t> solve_units_;  ///< units holding mask pixels
   std::vector<uint64_t> read_units_;   ///< and their neighbours, whose vertical sums they read

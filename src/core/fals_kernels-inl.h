@@ -277,3 +277,183 @@ void falsHorizontal(int h, const float* const* vert, const float* const* table, 
     horizontal<3>(vert, table, x0, x1, ncols, ax, rc, prow, zrow, nrow, grow, holes, slow, n_slow,
                   done);
 }
+
+#if HWY_HAVE_FLOAT64
+// The exact path (FalsNormals::solveWindow) for the windows of columns [x0, x1) of one row, one
+// window per double lane: the same double operations in the same order as the scalar code, so
+// every target gives its bits. A pixel without a valid pixel or outside the image adds +-0 to a
+// sum instead of being skipped: the sums start at +0 and are never -0, so the bits stay the same.
+// Column sums (scalar solveWindow's column_) go to the 8 planes of `cols` (column x at
+// cols[j * stride + x], h zero columns each side left untouched); su: source column of each
+// column, padded by h finite values each side; fv[h + d]: source row offset of row y + d (0 outside
+// the image, where the prepared rows are 0). n: unit normals (floats, 3 planes of stride W) and
+// ok per column, or with g (and no normals wanted) G directly.
+struct VD {
+  using D = hn::CappedTag<double, 8>;
+  using DF = hn::Rebind<float, D>;
+  static constexpr int N = static_cast<int>(hn::MaxLanes(D()));
+  using T = hn::Vec<D>;
+  static T loadf(const float* p) { return hn::PromoteTo(D(), hn::LoadU(DF(), p)); }
+};
+
+template <int H>
+void exactRow(const float* const* kv, const float* const* t, const float* const* c,
+              const double* fv, int W, int x0, int x1, const double* su, const float* ax, double ay,
+              double fx, double fy, double full_rows, const float* ncols, double* cols,
+              std::ptrdiff_t stride, float* n_out, uint8_t* ok_out, const RowConst& rc,
+              const float* zrow, float* grow, int& done) {
+  using D = VD::D;
+  using DF = VD::DF;
+  using T = VD::T;
+  constexpr int L = VD::N;
+  const D d;
+  const DF df;
+  const int xv = x0 + (x1 - x0) / L * L;  // windows done here: [x0, xv)
+  done = x0;
+  if (xv == x0) return;
+  // column sums of the columns the windows read
+  const int c0 = std::max(0, x0 - H), c1 = std::min(W, xv + H);
+  double* v[8];
+  for (int j = 0; j < 8; ++j) v[j] = cols + j * stride;
+  int cx = c0;
+  for (; cx + L <= c1; cx += L) {
+    T s[8];
+    for (int j = 0; j < 8; ++j) s[j] = hn::Zero(d);
+    for (int dv = -H; dv <= H; ++dv) {
+      const T k = VD::loadf(kv[H + dv] + cx), tt = VD::loadf(t[H + dv] + cx),
+              cc = VD::loadf(c[H + dv] + cx), f = hn::Set(d, fv[H + dv]);
+      s[0] = hn::Add(s[0], k);
+      const T kf = hn::Mul(k, f);
+      s[1] = hn::Add(s[1], kf);
+      s[2] = hn::Add(s[2], hn::Mul(kf, f));
+      s[3] = hn::Add(s[3], tt);
+      s[4] = hn::Add(s[4], hn::Mul(tt, f));
+      s[5] = hn::Add(s[5], cc);
+      const T cf = hn::Mul(cc, f);
+      s[6] = hn::Add(s[6], cf);
+      s[7] = hn::Add(s[7], hn::Mul(cf, f));
+    }
+    for (int j = 0; j < 8; ++j) hn::StoreU(s[j], d, v[j] + cx);
+  }
+  for (; cx < c1; ++cx) {  // the same per column
+    double s[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (int dv = -H; dv <= H; ++dv) {
+      const double k = kv[H + dv][cx], tt = t[H + dv][cx], cc = c[H + dv][cx], f = fv[H + dv];
+      s[0] += k;
+      s[1] += k * f;
+      s[2] += k * f * f;
+      s[3] += tt;
+      s[4] += tt * f;
+      s[5] += cc;
+      s[6] += cc * f;
+      s[7] += cc * f * f;
+    }
+    for (int j = 0; j < 8; ++j) v[j][cx] = s[j];
+  }
+  const T zero = hn::Zero(d), three = hn::Set(d, 3.0),
+          inf = hn::Set(d, std::numeric_limits<double>::infinity()), one = hn::Set(d, 1.0),
+          vfx = hn::Set(d, fx), vfy = hn::Set(d, fy), vay = hn::Set(d, ay),
+          vfull_rows = hn::Set(d, full_rows);
+  for (int x = x0; x < xv; x += L) {
+    T N = zero;
+    for (int o = -H; o <= H; ++o) N = hn::Add(N, hn::LoadU(d, v[5] + x + o));
+    auto ok = hn::Ge(N, three);
+    T n0 = zero, n1 = zero, n2 = zero;
+    if (!hn::AllFalse(d, ok)) {
+      T K0 = zero, Ku = zero, Kv = zero, Kuu = zero, Kuv = zero, Kvv = zero, T0 = zero, Tu = zero,
+        Tv = zero, Nu = zero, Nuu = zero, Nv = zero, Nvv = zero;
+      const T sx = hn::LoadU(d, su + x);
+      for (int o = -H; o <= H; ++o) {
+        const T fu = hn::Sub(hn::LoadU(d, su + x + o), sx), fuu = hn::Mul(fu, fu);
+        const T a0 = hn::LoadU(d, v[0] + x + o), a1 = hn::LoadU(d, v[1] + x + o),
+                a3 = hn::LoadU(d, v[3] + x + o), a5 = hn::LoadU(d, v[5] + x + o);
+        K0 = hn::Add(K0, a0);
+        Ku = hn::Add(Ku, hn::Mul(fu, a0));
+        Kuu = hn::Add(Kuu, hn::Mul(fuu, a0));
+        Kv = hn::Add(Kv, a1);
+        Kuv = hn::Add(Kuv, hn::Mul(fu, a1));
+        Kvv = hn::Add(Kvv, hn::LoadU(d, v[2] + x + o));
+        T0 = hn::Add(T0, a3);
+        Tu = hn::Add(Tu, hn::Mul(fu, a3));
+        Tv = hn::Add(Tv, hn::LoadU(d, v[4] + x + o));
+        Nu = hn::Add(Nu, hn::Mul(fu, a5));
+        Nuu = hn::Add(Nuu, hn::Mul(fuu, a5));
+        Nv = hn::Add(Nv, hn::LoadU(d, v[6] + x + o));
+        Nvv = hn::Add(Nvv, hn::LoadU(d, v[7] + x + o));
+      }
+      const T full = hn::Mul(hn::PromoteTo(d, hn::LoadU(df, ncols + x)), vfull_rows);
+      const auto spread = hn::And(hn::Gt(hn::Sub(hn::Mul(N, Nuu), hn::Mul(Nu, Nu)), zero),
+                                  hn::Gt(hn::Sub(hn::Mul(N, Nvv), hn::Mul(Nv, Nv)), zero));
+      ok = hn::And(ok, hn::Or(hn::Not(hn::Lt(N, full)), spread));
+      // symmetricAdjugate() and adjugateTimes()
+      const T a0 = hn::Sub(hn::Mul(Kuu, Kvv), hn::Mul(Kuv, Kuv));
+      const T a1 = hn::Sub(hn::Mul(Kuv, Kv), hn::Mul(Ku, Kvv));
+      const T a2 = hn::Sub(hn::Mul(Ku, Kuv), hn::Mul(Kuu, Kv));
+      const T a3 = hn::Sub(hn::Mul(K0, Kvv), hn::Mul(Kv, Kv));
+      const T a4 = hn::Sub(hn::Mul(Ku, Kv), hn::Mul(K0, Kuv));
+      const T a5 = hn::Sub(hn::Mul(K0, Kuu), hn::Mul(Ku, Ku));
+      const T m0 = hn::Add(hn::Add(hn::Mul(a0, T0), hn::Mul(a1, Tu)), hn::Mul(a2, Tv));
+      const T m1 = hn::Add(hn::Add(hn::Mul(a1, T0), hn::Mul(a3, Tu)), hn::Mul(a4, Tv));
+      const T m2 = hn::Add(hn::Add(hn::Mul(a2, T0), hn::Mul(a4, Tu)), hn::Mul(a5, Tv));
+      n0 = hn::Mul(vfx, m1);
+      n1 = hn::Mul(vfy, m2);
+      n2 = hn::Sub(hn::Sub(m0, hn::Mul(hn::PromoteTo(d, hn::LoadU(df, ax + x)), n0)),
+                   hn::Mul(vay, n1));
+      const T len = hn::Sqrt(hn::Add(hn::Add(hn::Mul(n0, n0), hn::Mul(n1, n1)), hn::Mul(n2, n2)));
+      ok = hn::And(ok, hn::And(hn::Gt(len, zero), hn::Lt(len, inf)));
+      const T l = hn::IfThenElse(ok, len, one);
+      n0 = hn::IfThenElseZero(ok, hn::Div(n0, l));
+      n1 = hn::IfThenElseZero(ok, hn::Div(n1, l));
+      n2 = hn::IfThenElseZero(ok, hn::Div(n2, l));
+    }
+    const auto f0 = hn::DemoteTo(df, n0), f1 = hn::DemoteTo(df, n1), f2 = hn::DemoteTo(df, n2);
+    if (grow) {  // finish() for G alone, lane for lane
+      // lanes without a normal hold n = 0: len2 = 0 fails the test as finish()'s ok does
+      const auto fzero = hn::Zero(df), fone = hn::Set(df, 1.f);
+      const auto len2 = hn::Add(hn::Add(hn::Mul(f0, f0), hn::Mul(f1, f1)), hn::Mul(f2, f2));
+      const auto okg = hn::And(hn::Gt(len2, fzero), hn::Lt(len2, hn::Set(df, kInf)));
+      const auto inv_len = hn::Div(fone, hn::Sqrt(hn::IfThenElse(okg, len2, fone)));
+      const auto nup = hn::Mul(hn::Abs(hn::Add(hn::Add(hn::Mul(f0, hn::Set(df, rc.up[0])),
+                                                       hn::Mul(f1, hn::Set(df, rc.up[1]))),
+                                               hn::Mul(f2, hn::Set(df, rc.up[2])))),
+                               inv_len);
+      const auto normal_term = hn::IfThenElseZero(okg, nup);
+      const auto z = hn::LoadU(df, zrow + x), td = hn::Set(df, rc.td),
+                 inv_td = hn::Set(df, rc.inv_td);
+      const auto near = hn::And(hn::Le(z, td), hn::Gt(z, hn::Set(df, -kInf)));
+      const auto depth_term = rc.near_high ? hn::Mul(hn::Sub(td, z), inv_td) : hn::Mul(z, inv_td);
+      hn::StoreU(hn::Add(hn::Mul(hn::Set(df, rc.alpha), normal_term),
+                         hn::Mul(hn::Set(df, rc.beta),
+                                 hn::IfThenElse(near, depth_term, hn::Set(df, rc.row_term)))),
+                 df, grow + x);
+      continue;
+    }
+    hn::StoreU(f0, df, n_out + x);
+    hn::StoreU(f1, df, n_out + W + x);
+    hn::StoreU(f2, df, n_out + 2 * W + x);
+    uint8_t bits[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    hn::StoreMaskBits(d, ok, bits);
+    for (int i = 0; i < L; ++i) ok_out[x + i] = bits[0] >> i & 1;
+  }
+  done = xv;
+}
+#endif  // HWY_HAVE_FLOAT64
+
+void falsExact(int h, const float* const* kv, const float* const* t, const float* const* c,
+               const double* fv, int W, int x0, int x1, const double* su, const float* ax,
+               double ay, double fx, double fy, double full_rows, const float* ncols, double* cols,
+               std::ptrdiff_t stride, float* n_out, uint8_t* ok_out, const RowConst& rc,
+               const float* zrow, float* grow, int& done) {
+  done = x0;
+#if HWY_HAVE_FLOAT64
+  if (h == 1)
+    exactRow<1>(kv, t, c, fv, W, x0, x1, su, ax, ay, fx, fy, full_rows, ncols, cols, stride, n_out,
+                ok_out, rc, zrow, grow, done);
+  if (h == 2)
+    exactRow<2>(kv, t, c, fv, W, x0, x1, su, ax, ay, fx, fy, full_rows, ncols, cols, stride, n_out,
+                ok_out, rc, zrow, grow, done);
+  if (h == 3)
+    exactRow<3>(kv, t, c, fv, W, x0, x1, su, ax, ay, fx, fy, full_rows, ncols, cols, stride, n_out,
+                ok_out, rc, zrow, grow, done);
+#endif
+}

@@ -55,7 +55,14 @@ void falsHorizontalScalar(int, const float* const*, const float* const*, int x0,
                           const uint64_t*, int*, int&, int& done) {
   done = x0;
 }
+void falsExactScalar(int, const float* const*, const float* const*, const float* const*,
+                     const double*, int, int x0, int, const double*, const float*, double, double,
+                     double, double, const float*, double*, std::ptrdiff_t, float*, uint8_t*,
+                     const RowConst&, const float*, float*, int& done) {
+  done = x0;
+}
 #ifdef RLD_HAVE_HWY
+HWY_EXPORT(falsExact);
 HWY_EXPORT(falsPrepare);
 HWY_EXPORT(falsVertical);
 HWY_EXPORT(falsHorizontal);
@@ -123,6 +130,12 @@ void FalsNormals::configure(const cv::Size& size, const Intrinsics& K, int windo
   slow_.resize(W);
   column_.resize(kColumnSums * static_cast<size_t>(W));
   column_row_.assign(W, -1);
+  // the vector exact path (falsExact): padded column sums and source columns, its outputs
+  exact_cols_.assign(kColumnSums * static_cast<size_t>(W + 2 * h), 0.0);
+  exact_su_.resize(W + 2 * h);
+  for (int x = -h; x < W + h; ++x) exact_su_[x + h] = src_u_[std::min(W - 1, std::max(0, x))];
+  exact_n_.resize(3 * static_cast<size_t>(W));
+  exact_ok_.resize(W);
 }
 
 void FalsNormals::ensureTable(const cv::Range& rows) {
@@ -400,9 +413,29 @@ void FalsNormals::run(const cv::Mat& points, const cv::Range& rows, const Output
     };
 
     if (!uniform_ || referenceStages()) {
-      // resampled at an uneven step (no separable sums), or the reference: every window exactly
+      // resampled at an uneven step (no separable sums), or the reference: every window exactly,
+      // several windows per vector (the same double operations) unless the reference
+      double fv[7];
+      for (int d = -h; d <= h; ++d)
+        fv[h + d] = y + d < 0 || y + d >= H ? 0.0 : src_v_[y + d] - src_v_[y];
+      const double full_rows = std::min(H - 1, y + h) - std::max(0, y - h) + 1;
+      float* gv = nrow ? nullptr : grow;  // G in the kernel when no normals are wanted
       forEachRun(solve, W, [&](int x0, int x1) {
-        for (int x = x0; x < x1; ++x) exact(x);
+        int x = x0;
+        if (!referenceStages()) {
+          RLD_DISPATCH(falsExact)
+          (h, kv_rows, t_rows, c_rows, fv, W, x0, x1, exact_su_.data() + h, ax_.data(), ay_[y],
+           K_.fx, K_.fy, full_rows, ncols_.data(), exact_cols_.data() + h, W + 2 * h,
+           exact_n_.data(), exact_ok_.data(), rc, kv_rows[h] + 3 * W, gv, x);
+          if (!gv) {
+            for (int i = x0; i < x; ++i) {
+              const float n[3] = {exact_n_[i], exact_n_[W + i], exact_n_[2 * W + i]};
+              finish(n, exact_ok_[i], prow + 3 * i, ax_[i], rc, nrow ? nrow + 3 * i : nullptr,
+                     grow ? grow + i : nullptr);
+            }
+          }
+        }
+        for (; x < x1; ++x) exact(x);
       });
       if (masked) zeroOutsideMask(out.mask->ptr<uint8_t>(y), solve, W, grow);
       continue;

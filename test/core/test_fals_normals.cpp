@@ -444,6 +444,64 @@ TEST(FalsNormals, MaskedGeometricMapIsTheWholeMapOnTheMask) {
   simd::forceTarget(simd::kBest);
 }
 
+// Resampled at an uneven step (the column map steps 1, 2, 1, 2 ... as at scale 0.6) every window
+// is solved by the exact path, several per vector: the same bits as the scalar solve (the
+// reference) on every target, for normals, G, G with normals and G on a mask, with holes, a
+// width that is no whole number of vectors, and the image borders.
+TEST(FalsNormals, UnevenResamplingGivesTheReferenceBitsOnEveryTarget) {
+  const Intrinsics K{532.74, 532.74, 640.0, 380.0};
+  const cv::Size size(203, 61);
+  cv::Mat col_map(1, size.width, CV_32SC1), row_map(1, size.height, CV_32SC1);
+  std::vector<int> su(size.width), sv(size.height);
+  for (int x = 0; x < size.width; ++x) su[x] = col_map.at<int>(x) = 400 + int((x + 0.5) / 0.6);
+  for (int y = 0; y < size.height; ++y) sv[y] = row_map.at<int>(y) = 350 + int((y + 0.5) / 0.6);
+  const cv::Mat pts = wavyPoints(K, size, su, sv);  // holes, a step edge, a crescent of pixels
+  cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+  cv::line(mask, cv::Point(0, 0), cv::Point(202, 60), cv::Scalar(255), 5);
+  cv::circle(mask, cv::Point(180, 20), 12, cv::Scalar(255), -1);
+  Params p;
+  p.depth_threshold = 4.2;  // both branches of Eq. 2
+  const cv::Range rows(0, size.height);
+  struct Out {
+    cv::Mat normals, G, G_normals, kept, G_mask;
+  };
+  auto run = [&](int window) {
+    Out o;
+    FalsNormals fals;
+    fals.configure(size, K, window, col_map, row_map);
+    fals.compute(pts, rows, o.normals);
+    fals.computeGeometric(pts, rows, p, o.G);
+    fals.computeGeometric(pts, rows, p, o.G_normals, &o.kept);
+    fals.computeGeometric(pts, rows, p, mask, o.G_mask);
+    return o;
+  };
+  auto same = [](const cv::Mat& a, const cv::Mat& b) {
+    return a.size() == b.size() && a.type() == b.type() &&
+           std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+  };
+  for (int window : {3, 5, 7}) {
+    setReferenceStages(true);
+    const Out ref = run(window);
+    setReferenceStages(false);
+    int solved = 0;
+    for (int y = 0; y < size.height; ++y)
+      for (int x = 0; x < size.width; ++x)
+        solved += !std::isnan(ref.normals.at<cv::Vec3f>(y, x)[0]);
+    EXPECT_GT(solved, static_cast<int>(size.area()) / 2);
+    for (simd::Target target : simd::availableTargets()) {
+      simd::forceTarget(target);
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", window " << window);
+      const Out o = run(window);
+      EXPECT_TRUE(same(o.normals, ref.normals));
+      EXPECT_TRUE(same(o.G, ref.G));
+      EXPECT_TRUE(same(o.G_normals, ref.G_normals));
+      EXPECT_TRUE(same(o.kept, ref.kept));
+      EXPECT_TRUE(same(o.G_mask, ref.G_mask));
+    }
+  }
+  simd::forceTarget(simd::kBest);
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector
 
