@@ -23,6 +23,9 @@ constexpr double kDoubleShare = 0.6;   // share of the measured rows that must s
 // a grain of the aggregate, sensor noise at night or the bright rim of a dark seam beside the line
 // is a centimetre or two, and followed one row after another they walk the line off its paint)
 constexpr double kSteeringWidthShare = 0.35;
+// ... where that width spans this many pixels at least (on coarser rows a band's width in whole
+// pixels does not tell a grain from paint: every row found steers there)
+constexpr double kSteeringResolved = 2.0;
 
 }  // namespace
 
@@ -151,7 +154,8 @@ int LineFollower::followLine(const ClassifierInput& in, std::vector<cv::Point2f>
         if (!profile_.bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre,
                                  &width))
           return false;
-        steers = !painted || width >= kSteeringWidthShare * p.paint_width_min * ppm;
+        const double min_px = kSteeringWidthShare * p.paint_width_min * ppm;
+        steers = !painted || min_px < kSteeringResolved || width >= min_px;
         return true;
       });
 }

@@ -51,16 +51,17 @@ TEST(LineFollower, FollowLineCentresOnThePaintAndCrossesDashGaps) {
 TEST(LineFollower, ASeamsBrightRimDoesNotSteerTheLine) {
   // a 15 cm dash at x = -1.7 6-10 m ahead (traced from 6.5 m) and the next one 2-3 m ahead; in
   // the gap a dark seam beside the line, its 1 cm bright rim (narrower than any paint's core)
-  // leaving the line toward the lane (from 8 cm inside it at 5.8 m to 25 cm at 3 m): followed
+  // leaving the line toward the lane (from 8 cm inside it at 5.5 m to 25 cm at 3 m): followed
   // toward the car, the painted line keeps its paint's heading across the gap and reaches the
-  // near dash (the rim's rows do not steer it)
-  auto rim = [](double z) { return -1.62 + 0.17 * (5.8 - z) / 2.8; };
+  // near dash (the rim's rows do not steer it). Paint at least 12 cm wide (a motorway's): on the
+  // rendered road's coarse pixels its core's width is resolved across the gap.
+  auto rim = [](double z) { return -1.62 + 0.17 * (5.5 - z) / 2.5; };
   CrossSection cs;
   cs.colour = [rim](double x, double z) {
     const bool dash = (z >= 6.0 && z <= 10.0) || z <= 3.0;
     if (dash && std::fabs(x + 1.7) < 0.075) return grey(220);
-    if (z > 3.0 && z < 5.8 && x > rim(z) - 0.005 && x <= rim(z) + 0.005) return grey(220);
-    if (z > 3.0 && z < 5.8 && x > rim(z) + 0.005 && x < rim(z) + 0.05) return grey(30);
+    if (z > 3.0 && z < 5.5 && x > rim(z) - 0.005 && x <= rim(z) + 0.005) return grey(220);
+    if (z > 3.0 && z < 5.5 && x > rim(z) + 0.005 && x < rim(z) + 0.05) return grey(30);
     return grey(80);
   };
   Road f;
@@ -69,14 +70,16 @@ TEST(LineFollower, ASeamsBrightRimDoesNotSteerTheLine) {
   for (double z = 6.5; z <= 10.0; z += 0.25)
     px.emplace_back(static_cast<float>(kK.fx * -1.7 / z + kK.cx),
                     static_cast<float>(kK.fy * kHeight / z + kK.cy));
+  Params p = Params::improved();
+  p.paint_width_min = 0.12;
   std::vector<Eigen::Vector3f> pts;
-  const int rows = f.follower.followLine(f.in, px, pts, Params::improved(), 10.0, 60.0,
-                                         LineFollower::kTraceReach, true);  // a painted line
+  const int rows = f.follower.followLine(f.in, px, pts, p, 10.0, 60.0, LineFollower::kTraceReach,
+                                         true);  // a painted line
   ASSERT_GE(rows, 10);
   int near_dash = 0;
   for (const auto& c : px) {
     const double z = roadForward(c);
-    if (z > 3.0 && z < 5.8) continue;  // the gap: a rim row found there does not steer the line
+    if (z > 3.0 && z < 5.5) continue;  // the gap: a rim row found there does not steer the line
     // on the dashes: on the paint's centre (within 3 cm, or 0.6 px far away)
     EXPECT_NEAR(roadLateral(c), -1.7, std::max(0.03, 0.6 * z / kK.fx)) << c;
     near_dash += z <= 3.0;
