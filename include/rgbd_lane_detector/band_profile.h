@@ -75,10 +75,11 @@ class BandProfile {
   /**
    * @brief Centre of the bright band on row @p v within @p half px of column @p u (sub-pixel,
    * brightness-weighted over the band at half its contrast).
+   * @p width (if given): the band's width at half its contrast (px).
    * @return false when no band stands out by the paint contrast or it is wider than @p max_px.
    */
   bool bandCentre(const ClassifierInput& in, int v, double u, int half, double max_px,
-                  const Params& p, double& centre);
+                  const Params& p, double& centre, int* width = nullptr);
 
   /**
    * @brief Where the road ends on row @p v (@p ppm pixels per metre across the road), scanning

@@ -115,11 +115,14 @@ class BoundaryClassifier {
    * @param[in] max_gap longest gap between painted stretches that is crossed (m).
    * @param[in] max_range farthest road distance followed (m).
    * @param[in] reach the band is sought this far either side of the predicted column (m).
+   * @param[in] painted the line is paint (classified so): beyond the trace only its rows of
+   *            paint-like width predict the rows ahead (a seam's rim or a noise peak beside it
+   *            does not steer it off its paint); otherwise every row found does (a narrow line).
    * @return rows found.
    */
   int followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                 double max_range, double reach = kTraceReach);
+                 double max_range, double reach = kTraceReach, bool painted = false);
 
   /**
    * @brief A double line (two painted lines side by side, 0.1-0.2 m apart) is one boundary at

@@ -34,7 +34,7 @@ class LineFollower {
   /// Paint row by row from the trace (BoundaryClassifier::followLine()).
   int followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                 double max_range, double reach = kTraceReach);
+                 double max_range, double reach = kTraceReach, bool painted = false);
 
   /// A road edge row by row from the trace (BoundaryClassifier::followEdge()).
   int followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
@@ -46,9 +46,10 @@ class LineFollower {
                         std::vector<Eigen::Vector3f>& points, const Params& p);
 
  private:
-  /// The row walk of followLine() and followEdge(): @p find(v, u, ppm, from_trace, column) seeks
-  /// the boundary on row v near column u (ppm pixels per metre across the road; u predicted from
-  /// the trace, or from the rows found).
+  /// The row walk of followLine() and followEdge(): @p find(v, u, ppm, from_trace, column,
+  /// steers) seeks the boundary on row v near column u (ppm pixels per metre across the road; u
+  /// predicted from the trace, or from the steering rows found); steers: the row found may
+  /// predict the next rows' column (set false for a band that is not paint-like).
   template <typename FindInRow>
   int followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
@@ -58,6 +59,7 @@ class LineFollower {
   std::vector<cv::Point2f> followed_;       ///< rows found from the trace's nearest row on
   std::vector<cv::Point2f> followed_near_;  ///< rows found below the trace's start
   std::vector<double> follow_f_;  ///< forward distance (m) of each row found in one direction
+  std::vector<char> follow_steers_;  ///< whether each of them steers the line (paint-like)
   std::vector<float> twin_[2];    ///< centreDoubleLine(): offsets (m) of the second band, per side
 };
 

@@ -188,7 +188,7 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
 }
 
 bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int half, double max_px,
-                             const Params& p, double& centre) {
+                             const Params& p, double& centre, int* width) {
   const int margin = std::max(3, half);
   const int u0 = roundColumn(u, in.colour->cols);
   const int W = half + margin;
@@ -213,6 +213,7 @@ bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int hal
   while (l - 1 >= -W && profile_[l - 1 + W] >= level) --l;
   while (r + 1 <= W && profile_[r + 1 + W] >= level) ++r;
   if (r - l + 1 > max_px || l == -W || r == W) return false;
+  if (width != nullptr) *width = r - l + 1;
   double sw = 0.0, sx = 0.0;
   for (int k = l; k <= r; ++k) {
     const double w = profile_[k + W] - level + 1e-3;

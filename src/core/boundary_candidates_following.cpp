@@ -100,10 +100,13 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
       if (c.evidence.kind == BoundaryKind::kRoadEdge &&
           c.evidence.narrow_rows >= c.evidence.rows / 2)
         dashedNarrowLine(f, side, c);
-      // a painted line: on the paint's centre, row by row, and as far as it goes
+      // a painted line: on the paint's centre, row by row, and as far as it goes (where most of
+      // its rows measured paint width, only rows of paint-like width steer it; worn paint's
+      // narrow core is followed on its narrow rows)
       if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
         classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
-                               params_.max_depth);
+                               params_.max_depth, BoundaryClassifier::kTraceReach,
+                               2 * c.evidence.paint_rows > c.evidence.rows);
         if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_)) matchLengths(c.trace);
         double stroke = 0.0;  // m of road a lone stroke covers
         if (loneStroke(f, c.trace.pixels, &stroke)) {

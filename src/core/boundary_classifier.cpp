@@ -63,8 +63,9 @@ BoundaryClassifier::BoundaryClassifier() {
 
 int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                    std::vector<Eigen::Vector3f>& points, const Params& p,
-                                   double max_gap, double max_range, double reach) {
-  return follower_.followLine(in, pixels, points, p, max_gap, max_range, reach);
+                                   double max_gap, double max_range, double reach,
+                                   bool painted) {
+  return follower_.followLine(in, pixels, points, p, max_gap, max_range, reach, painted);
 }
 
 int BoundaryClassifier::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,

@@ -17,6 +17,15 @@ constexpr double kDoubleReach = 0.1;   // m: the second line is sought this far 
 constexpr double kDoubleMin = 0.17;    // m: a second line this near ...
 constexpr double kDoubleMax = 0.4;     // ... to this far makes a double line
 constexpr double kDoubleShare = 0.6;   // share of the measured rows that must show it
+// On a painted line, the rows found steer the line ahead (predict the next rows' column) only
+// where their band is paint-like, at least this share of paint_width_min wide at half its
+// contrast, once two such rows are found (the bright core of worn paint keeps a few centimetres;
+// a grain of the aggregate, sensor noise at night or the bright rim of a dark seam beside the line
+// is a centimetre or two, and followed one row after another they walk the line off its paint)
+constexpr double kSteeringWidthShare = 0.35;
+// ... where that width spans this many pixels at least (on coarser rows a band's width in whole
+// pixels does not tell a grain from paint: every row found steers there)
+constexpr double kSteeringResolved = 2.0;
 
 }  // namespace
 
@@ -25,6 +34,7 @@ LineFollower::LineFollower() {
   followed_.reserve(kReservedPixels);
   followed_near_.reserve(kReservedPixels);
   follow_f_.reserve(kReservedPixels);
+  follow_steers_.reserve(kReservedPixels);
 }
 
 template <typename FindInRow>
@@ -67,7 +77,9 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
   auto follow = [&](int v0, int step, std::vector<cv::Point2f>& out) {
     out.clear();
     follow_f_.clear();
+    follow_steers_.clear();
     double last_f = -1.0, measured_f = -1.0;
+    int steering = 0;  // paint-like rows found
     for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
       const bool inside = v <= v_near && v >= v_far;
       double u;
@@ -75,12 +87,16 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
         u = traceColumn(v);
       } else if (out.size() < 2) {
         u = ta + tb * v;
-      } else {                          // least-squares line u(v) through the last rows found
-        size_t first = out.size() - 2;  // the rows within kFollowFit of the last one found
-        while (first > 0 && std::fabs(follow_f_[first - 1] - follow_f_.back()) <= kFollowFit)
-          --first;
+      } else {  // least-squares line u(v) through the last rows found that steer
+        // (the paint-like ones where two are found, else all)
+        const bool all = steering < 2;
+        size_t last = out.size() - 1;
+        while (!all && !follow_steers_[last]) --last;
         double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
-        for (size_t i = first; i < out.size(); ++i) {
+        // the steering rows within kFollowFit of the last one
+        for (size_t i = last + 1; i-- > 0;) {
+          if (!all && !follow_steers_[i]) continue;
+          if (s1 >= 2 && std::fabs(follow_f_[i] - follow_f_[last]) > kFollowFit) break;
           s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
               suv += out[i].x * out[i].y;
         }
@@ -98,9 +114,12 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
       if (measured_f >= 0.0 && std::fabs(f - measured_f) < kFollowSpacing) continue;
       measured_f = f;
       double centre;
-      if (find(v, u, ppm, inside || out.size() < 2, centre)) {
+      bool steers = true;
+      if (find(v, u, ppm, inside || out.size() < 2, centre, steers)) {
         out.emplace_back(static_cast<float>(centre), static_cast<float>(v));
         follow_f_.push_back(f);
+        follow_steers_.push_back(steers);
+        steering += steers;
         last_f = f;
       } else if (!inside && last_f < 0.0 && out.empty()) {
         last_f = f;  // a gap from the trace's end on
@@ -123,15 +142,21 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
 
 int LineFollower::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                              std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                             double max_range, double reach) {
+                             double max_range, double reach, bool painted) {
   return followRows(
       in, pixels, points, max_gap, max_range,
-      [&](int v, double u, double ppm, bool from_trace, double& centre) {
+      [&](int v, double u, double ppm, bool from_trace, double& centre, bool& steers) {
         // where the column comes from the trace (@p reach: wider for a predicted
         // line), else from the rows found
         const double r = from_trace ? reach : kFollowReach;
         const int half = std::min(48, std::max(2, static_cast<int>(std::lround(r * ppm))));
-        return profile_.bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre);
+        int width = 0;
+        if (!profile_.bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre,
+                                 &width))
+          return false;
+        const double min_px = kSteeringWidthShare * p.paint_width_min * ppm;
+        steers = !painted || min_px < kSteeringResolved || width >= min_px;
+        return true;
       });
 }
 
@@ -183,7 +208,7 @@ int LineFollower::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>
                              std::vector<Eigen::Vector3f>& points, bool left, const Params& p,
                              double max_gap, double max_range, double reach) {
   return followRows(in, pixels, points, max_gap, max_range,
-                    [&](int v, double u, double ppm, bool from_trace, double& edge) {
+                    [&](int v, double u, double ppm, bool from_trace, double& edge, bool&) {
                       // the rows found predict the edge itself
                       const double inside = from_trace
                                                 ? std::min(reach, BandProfile::kEdgeReference[0])

@@ -48,6 +48,45 @@ TEST(LineFollower, FollowLineCentresOnThePaintAndCrossesDashGaps) {
   for (size_t i = 1; i < px.size(); ++i) EXPECT_LT(px[i].y, px[i - 1].y);  // near to far
 }
 
+TEST(LineFollower, ASeamsBrightRimDoesNotSteerTheLine) {
+  // a 15 cm dash at x = -1.7 6-10 m ahead (traced from 6.5 m) and the next one 2-3 m ahead; in
+  // the gap a dark seam beside the line, its 1 cm bright rim (narrower than any paint's core)
+  // leaving the line toward the lane (from 8 cm inside it at 5.5 m to 25 cm at 3 m): followed
+  // toward the car, the painted line keeps its paint's heading across the gap and reaches the
+  // near dash (the rim's rows do not steer it). Paint at least 12 cm wide (a motorway's): on the
+  // rendered road's coarse pixels its core's width is resolved across the gap.
+  auto rim = [](double z) { return -1.62 + 0.17 * (5.5 - z) / 2.5; };
+  CrossSection cs;
+  cs.colour = [rim](double x, double z) {
+    const bool dash = (z >= 6.0 && z <= 10.0) || z <= 3.0;
+    if (dash && std::fabs(x + 1.7) < 0.075) return grey(220);
+    if (z > 3.0 && z < 5.5 && x > rim(z) - 0.005 && x <= rim(z) + 0.005) return grey(220);
+    if (z > 3.0 && z < 5.5 && x > rim(z) + 0.005 && x < rim(z) + 0.05) return grey(30);
+    return grey(80);
+  };
+  Road f;
+  f.render(cs);
+  std::vector<cv::Point2f> px;
+  for (double z = 6.5; z <= 10.0; z += 0.25)
+    px.emplace_back(static_cast<float>(kK.fx * -1.7 / z + kK.cx),
+                    static_cast<float>(kK.fy * kHeight / z + kK.cy));
+  Params p = Params::improved();
+  p.paint_width_min = 0.12;
+  std::vector<Eigen::Vector3f> pts;
+  const int rows = f.follower.followLine(f.in, px, pts, p, 10.0, 60.0, LineFollower::kTraceReach,
+                                         true);  // a painted line
+  ASSERT_GE(rows, 10);
+  int near_dash = 0;
+  for (const auto& c : px) {
+    const double z = roadForward(c);
+    if (z > 3.0 && z < 5.5) continue;  // the gap: a rim row found there does not steer the line
+    // on the dashes: on the paint's centre (within 3 cm, or 0.6 px far away)
+    EXPECT_NEAR(roadLateral(c), -1.7, std::max(0.03, 0.6 * z / kK.fx)) << c;
+    near_dash += z <= 3.0;
+  }
+  EXPECT_GE(near_dash, 3);  // across the seam to the near dash
+}
+
 TEST(LineFollower, ADoubleLineIsOneBoundaryAtItsCentre) {
   // two 0.12 m yellow lines 0.13 m apart centred at x = -1.8 (centres at -1.925 and -1.675)
   CrossSection cs;
