@@ -51,6 +51,28 @@ using VM = V::M;
 constexpr unsigned kAllLanes = V::N >= 32 ? ~0u : (1u << V::N) - 1u;
 
 // moments() for V::N adjacent x: the value at offset d is at p + d * stride.
+/// The adjugate of a window's symmetric matrix K = [K0 Ku Kv; Ku Kuu Kuv; Kv Kuv Kvv] (its six
+/// terms a00 a01 a02 a11 a12 a22, as symmetricAdjugate() of fals_window.h) and its product with
+/// (T0, Tu, Tv) (adjugateTimes()), in the scalar code's order of operations, on float or double
+/// vectors.
+struct Adjugate {
+  template <class Vec>
+  static void terms(Vec K0, Vec Ku, Vec Kv, Vec Kuu, Vec Kuv, Vec Kvv, Vec a[6]) {
+    a[0] = hn::Sub(hn::Mul(Kuu, Kvv), hn::Mul(Kuv, Kuv));
+    a[1] = hn::Sub(hn::Mul(Kuv, Kv), hn::Mul(Ku, Kvv));
+    a[2] = hn::Sub(hn::Mul(Ku, Kuv), hn::Mul(Kuu, Kv));
+    a[3] = hn::Sub(hn::Mul(K0, Kvv), hn::Mul(Kv, Kv));
+    a[4] = hn::Sub(hn::Mul(Ku, Kv), hn::Mul(K0, Kuv));
+    a[5] = hn::Sub(hn::Mul(K0, Kuu), hn::Mul(Ku, Ku));
+  }
+  template <class Vec>
+  static void times(const Vec a[6], Vec T0, Vec Tu, Vec Tv, Vec& m0, Vec& m1, Vec& m2) {
+    m0 = hn::Add(hn::Add(hn::Mul(a[0], T0), hn::Mul(a[1], Tu)), hn::Mul(a[2], Tv));
+    m1 = hn::Add(hn::Add(hn::Mul(a[1], T0), hn::Mul(a[3], Tu)), hn::Mul(a[4], Tv));
+    m2 = hn::Add(hn::Add(hn::Mul(a[2], T0), hn::Mul(a[4], Tu)), hn::Mul(a[5], Tv));
+  }
+};
+
 template <int H, bool kSecond = false>
 inline void momentsV(const float* p, std::ptrdiff_t stride, VT& box, VT& m1, VT* m2 = nullptr) {
   box = V::load(p);
@@ -197,21 +219,16 @@ void horizontal(const float* const* vert, const float* const* table, int x0, int
       const VM span =
           V::mand(V::ge(N, three), V::mand(V::gt(V::sub(V::mul(N, Cu2), V::mul(Cu1, Cu1)), zero),
                                            V::gt(V::sub(V::mul(N, Cb2), V::mul(Cb1, Cb1)), zero)));
-      const VT a00 = V::sub(V::mul(Kuu, Kvv), V::mul(Kuv, Kuv));
-      const VT a01 = V::sub(V::mul(Kuv, Kv), V::mul(Ku, Kvv));
-      const VT a02 = V::sub(V::mul(Ku, Kuv), V::mul(Kuu, Kv));
-      const VT a11 = V::sub(V::mul(K0, Kvv), V::mul(Kv, Kv));
-      const VT a12 = V::sub(V::mul(Ku, Kv), V::mul(K0, Kuv));
-      const VT a22 = V::sub(V::mul(K0, Kuu), V::mul(Ku, Ku));
-      const VT det = V::add(V::add(V::mul(K0, a00), V::mul(Ku, a01)), V::mul(Kv, a02));
+      VT a[6];
+      Adjugate::terms(K0, Ku, Kv, Kuu, Kuv, Kvv, a);
+      const VT det = V::add(V::add(V::mul(K0, a[0]), V::mul(Ku, a[1])), V::mul(Kv, a[2]));
       const VM well = V::gt(det, V::mul(V::set1(kWellConditioned), V::mul(V::mul(K0, Kuu), Kvv)));
       const VM part = V::mandnot(whole, span);
       const unsigned exact = V::bits(V::mandnot(well, part));
       for (int i = 0; i < V::N; ++i)
         if (exact >> i & 1) slow[n_slow++] = x + i;
-      const VT p0 = V::add(V::add(V::mul(a00, T0), V::mul(a01, Tu)), V::mul(a02, Tv));
-      const VT p1 = V::add(V::add(V::mul(a01, T0), V::mul(a11, Tu)), V::mul(a12, Tv));
-      const VT p2 = V::add(V::add(V::mul(a02, T0), V::mul(a12, Tu)), V::mul(a22, Tv));
+      VT p0, p1, p2;
+      Adjugate::times(a, T0, Tu, Tv, p0, p1, p2);
       m0 = V::select(whole, m0, p0);
       m1 = V::select(whole, m1, p1);
       m2 = V::select(whole, m2, p2);
@@ -386,15 +403,9 @@ void exactRow(const float* const* kv, const float* const* t, const float* const*
                                   hn::Gt(hn::Sub(hn::Mul(N, Nvv), hn::Mul(Nv, Nv)), zero));
       ok = hn::And(ok, hn::Or(hn::Not(hn::Lt(N, full)), spread));
       // symmetricAdjugate() and adjugateTimes()
-      const T a0 = hn::Sub(hn::Mul(Kuu, Kvv), hn::Mul(Kuv, Kuv));
-      const T a1 = hn::Sub(hn::Mul(Kuv, Kv), hn::Mul(Ku, Kvv));
-      const T a2 = hn::Sub(hn::Mul(Ku, Kuv), hn::Mul(Kuu, Kv));
-      const T a3 = hn::Sub(hn::Mul(K0, Kvv), hn::Mul(Kv, Kv));
-      const T a4 = hn::Sub(hn::Mul(Ku, Kv), hn::Mul(K0, Kuv));
-      const T a5 = hn::Sub(hn::Mul(K0, Kuu), hn::Mul(Ku, Ku));
-      const T m0 = hn::Add(hn::Add(hn::Mul(a0, T0), hn::Mul(a1, Tu)), hn::Mul(a2, Tv));
-      const T m1 = hn::Add(hn::Add(hn::Mul(a1, T0), hn::Mul(a3, Tu)), hn::Mul(a4, Tv));
-      const T m2 = hn::Add(hn::Add(hn::Mul(a2, T0), hn::Mul(a4, Tu)), hn::Mul(a5, Tv));
+      T a[6], m0, m1, m2;
+      Adjugate::terms(K0, Ku, Kv, Kuu, Kuv, Kvv, a);
+      Adjugate::times(a, T0, Tu, Tv, m0, m1, m2);
       n0 = hn::Mul(vfx, m1);
       n1 = hn::Mul(vfy, m2);
       n2 = hn::Sub(hn::Sub(m0, hn::Mul(hn::PromoteTo(d, hn::LoadU(df, ax + x)), n0)),

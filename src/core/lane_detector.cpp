@@ -320,7 +320,8 @@ void LaneDetector::fuseResponses() {
     return;
   }
   cv::Mat* const* maps = matchMaps();
-  for (int i = 0; i < matchMapCount(); ++i) fuseResponse(*maps[i], geometric_, tau, roi_rows_, *maps[i]);
+  for (int i = 0; i < matchMapCount(); ++i)
+    fuseResponse(*maps[i], geometric_, tau, roi_rows_, *maps[i]);
 }
 
 const CandidateFrame& LaneDetector::candidateFrame(const Frame& frame) {

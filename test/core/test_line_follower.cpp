@@ -2,6 +2,7 @@
 // centre, a double line onto the centre between its lines, a kerb onto the bottom of its face.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -18,6 +19,17 @@ struct Road : RenderedRoad {
   LineFollower follower;
 };
 
+// A trace along the road line @p lateral m beside the camera (+ right), @p height below it, from
+// @p z0 to @p z1 m ahead every 0.25 m: its pixels, near to far.
+std::vector<cv::Point2f> traceAlong(double lateral, double z0, double z1,
+                                   double height = kHeight) {
+  std::vector<cv::Point2f> px;
+  for (double z = z0; z <= z1; z += 0.25)
+    px.emplace_back(static_cast<float>(kK.fx * lateral / z + kK.cx),
+                    static_cast<float>(kK.fy * height / z + kK.cy));
+  return px;
+}
+
 TEST(LineFollower, FollowLineCentresOnThePaintAndCrossesDashGaps) {
   // dashes of 4 m every 12 m at x = -1.7; the "trace" covers the dash 12-16 m ahead, 6 cm off
   // the paint's centre
@@ -28,10 +40,7 @@ TEST(LineFollower, FollowLineCentresOnThePaintAndCrossesDashGaps) {
   };
   Road f;
   f.render(cs);
-  std::vector<cv::Point2f> px;
-  for (double z = 12.0; z <= 16.0; z += 0.25)
-    px.emplace_back(static_cast<float>(kK.fx * -1.64 / z + kK.cx),
-                    static_cast<float>(kK.fy * kHeight / z + kK.cy));
+  std::vector<cv::Point2f> px = traceAlong(-1.64, 12.0, 16.0);
   std::vector<Eigen::Vector3f> pts;
   const int rows = f.follower.followLine(f.in, px, pts, Params::improved(), 10.0, 60.0);
   ASSERT_GE(rows, 10);
@@ -66,10 +75,7 @@ TEST(LineFollower, ASeamsBrightRimDoesNotSteerTheLine) {
   };
   Road f;
   f.render(cs);
-  std::vector<cv::Point2f> px;
-  for (double z = 6.5; z <= 10.0; z += 0.25)
-    px.emplace_back(static_cast<float>(kK.fx * -1.7 / z + kK.cx),
-                    static_cast<float>(kK.fy * kHeight / z + kK.cy));
+  std::vector<cv::Point2f> px = traceAlong(-1.7, 6.5, 10.0);
   Params p = Params::improved();
   p.paint_width_min = 0.12;
   std::vector<Eigen::Vector3f> pts;
@@ -126,10 +132,7 @@ TEST(LineFollower, FollowEdgeFindsWhereTheRoadEnds) {
   };
   Road f;
   f.render(cs);
-  std::vector<cv::Point2f> px;
-  for (double z = 8.0; z <= 12.0; z += 0.25)
-    px.emplace_back(static_cast<float>(kK.fx * 1.9 / z + kK.cx),
-                    static_cast<float>(kK.fy * (kHeight - 0.12) / z + kK.cy));
+  std::vector<cv::Point2f> px = traceAlong(1.9, 8.0, 12.0, kHeight - 0.12);
   std::vector<Eigen::Vector3f> pts;
   const int rows = f.follower.followEdge(f.in, px, pts, false, Params::improved(), 2.0, 60.0);
   ASSERT_GE(rows, 10);
