@@ -176,13 +176,15 @@ class BoundaryCandidateFinder {
   /// metres of road without a row found; @p extent: metres from its nearest to its farthest row,
   /// @p painted: metres of it the stretches cover; @p rows_cover: metres of it the rows found
   /// cover, each up to the next one but at most its own spacing (kRowCell and one image row);
-  /// rows beyond @p max_forward are not counted; with @p lone_points, neither are rows with no
-  /// other within half a metre of road (a raised pavement marker: no paint's stretch, no bridge).
+  /// rows beyond @p max_forward are not counted; with @p lone_points, neither are groups of rows
+  /// (each within half a metre of road of the next) that span no more than a raised pavement
+  /// marker and one row step (a marker found on one row or two: no paint's stretch, no bridge).
   int paintStretches(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels, double gap,
                      double* extent = nullptr, double* painted = nullptr,
                      double max_forward = std::numeric_limits<double>::infinity(),
                      double* rows_cover = nullptr, bool lone_points = false) const;
-  /// A narrow band taken for a rail head that comes in dashes when followed: worn paint.
+  /// A narrow band taken for a rail head that comes in dashes when followed: worn paint; broken
+  /// by dash gaps but covering more than dashes do: no boundary (a seam's or a crack's rim).
   void dashedNarrowLine(const CandidateFrame& f, int side, BoundaryCandidate& c);
   /// Road edges the depth shows (RoadEdgeFinder) that no traced line found.
   void addRoadEdgesFromDepth(const CandidateFrame& f);

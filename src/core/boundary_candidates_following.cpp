@@ -39,6 +39,11 @@ constexpr double kRowCell = 0.1;
 // along paint are found every kFollowSpacing (0.1 m) or image row; a raised pavement marker is
 // 10 cm long
 constexpr double kLonePoint = 0.5;
+// m: a raised pavement marker's length at most (10 cm markers and Botts' dots; ceramic ones up to
+// 15 cm): rows found together (each within kLonePoint of the next) that span no more than it
+// and one row step (kRowCell or one image row: the rows that touch its ends) are a marker, no
+// stretch of paint and no bridge between two (two rows on one marker are no dash)
+constexpr double kMarkerLength = 0.15;
 // share of a line's rows with paint width that make it paint somewhere (its lone rows raised
 // markers): a rail head or a seam measures none
 constexpr double kMarkerPaintRows = 0.1;
@@ -158,27 +163,46 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
                ? q.x()
                : std::numeric_limits<double>::quiet_NaN();
   };
+  // metres of road one image row spans at pixels[i] (infinite: not on the road)
+  const auto rowAt = [&](size_t i, double fwd) {
+    Eigen::Vector2d q1;
+    return roadCoordinates(f, frame, pixels[i].x, pixels[i].y - 1.0, q1)
+               ? std::fabs(q1.x() - fwd)
+               : std::numeric_limits<double>::infinity();
+  };
+  // rows pixels[i] and pixels[i + 1] lie within kLonePoint of road of each other (kRowsPerGap
+  // rows far away): one group of rows found together
+  const auto together = [&](size_t i) {
+    const double a = forwardAt(i), b = forwardAt(i + 1);
+    if (!std::isfinite(a) || !std::isfinite(b)) return false;
+    const double ra = rowAt(i, a), rb = rowAt(i + 1, b);
+    const double row_m =
+        std::max(std::isfinite(ra) ? ra : 0.0, std::isfinite(rb) ? rb : 0.0);
+    const double near_gap = std::max(kLonePoint, kRowsPerGap * row_m);
+    return std::fabs(b - a) <= near_gap;
+  };
+  size_t group_end = 0;      // one past the last row of the group pixels[i] is in
+  bool group_point = false;  // that group is a point on the line
   for (size_t i = 0; i < pixels.size(); ++i) {  // near to far
     const cv::Point2f& px = pixels[i];
-    Eigen::Vector2d q, q1;
+    Eigen::Vector2d q;
+    if (lone_points && i >= group_end) {
+      // a group of rows found together that spans no more than a raised pavement marker (one
+      // row, or two on one marker) is a point on the line (a marker, a grain of paint): no
+      // stretch of paint, and no bridge between two
+      group_end = i + 1;
+      while (group_end < pixels.size() && together(group_end - 1)) ++group_end;
+      const double a = forwardAt(i), b = forwardAt(group_end - 1);
+      const double step = std::max(kRowCell, std::isfinite(b) ? rowAt(group_end - 1, b) : 0.0);
+      group_point = !(std::fabs(b - a) > kMarkerLength + step);
+    }
+    if (lone_points && group_point) continue;
     if (!roadCoordinates(f, frame, px.x, px.y, q)) continue;
     const double fwd = q.x();
     if (fwd > max_forward) continue;
     // far away one image row spans more road than the gap: rows found on neighbouring rows
     // are one stretch (kRowsPerGap rows without paint make a gap there)
-    const double row_m = roadCoordinates(f, frame, px.x, px.y - 1.0, q1)
-                             ? std::fabs(q1.x() - fwd)
-                             : std::numeric_limits<double>::infinity();
-    if (lone_points) {
-      // a row found with no other within kLonePoint of road (kRowsPerGap rows far away) is a
-      // point on the line (a raised pavement marker, a grain of paint): no stretch of paint,
-      // and no bridge between two
-      const double near_gap =
-          std::max(kLonePoint, kRowsPerGap * (std::isfinite(row_m) ? row_m : 0.0));
-      const double before = i > 0 ? forwardAt(i - 1) : std::numeric_limits<double>::quiet_NaN();
-      const double after = forwardAt(i + 1);
-      if (!(std::fabs(before - fwd) <= near_gap) && !(std::fabs(after - fwd) <= near_gap)) continue;
-    }
+    const double row_m = rowAt(i, fwd);
     if (stretches > 0) cells += std::min(last_cell, std::fabs(fwd - last_f));
     last_cell = kRowCell + (std::isfinite(row_m) ? row_m : 0.0);
     if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {
@@ -256,7 +280,14 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   // markers nearer each other join dashes into stretches: on a line that measures paint width
   // on enough of its rows (no rail head, seam or crack does), the rows found tell the cover
   if (c.evidence.paint_rows >= kWornPaintRows * c.evidence.rows) painted = rows_cover;
-  if (dashes < kMinDashes || painted > kMaxDashCoverage * extent) return;
+  if (dashes < kMinDashes) return;  // unbroken: a rail head
+  if (painted > kMaxDashCoverage * extent) {
+    // broken by gaps of kDashGap, which no rail head has, but not into dashes (it covers more
+    // of the line than dashes do): the bright rim of a seam or a crack, no lane boundary
+    c.evidence.boundary = false;
+    c.evidence.reason = "broken narrow line";
+    return;
+  }
   c.trace.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
   c.trace.points.assign(seed_points_.begin(), seed_points_.end());
   c.trace.scores.resize(c.trace.pixels.size(), c.trace.peak_score);

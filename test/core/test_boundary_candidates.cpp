@@ -255,12 +255,37 @@ TEST(BoundaryCandidateFinder, ALoneMarkerJoinsNoWornDashes) {
   EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
 }
 
-TEST(BoundaryCandidateFinder, NarrowLineWithoutPaintWidthJoinedByMarkersIsARailHead) {
-  // the same line no row of which measures paint width (a rail head, a seam): its stretches
-  // tell its cover, as before
-  const BoundaryCandidate c = wornDashesWithMarkers(0.0);
+TEST(BoundaryCandidateFinder, AMarkerSeenOnTwoRowsJoinsNoWornDashes) {
+  // worn dashes from 4 to 5.5 m and from 8 to 9 m (paint width on the first 0.4 m, a 5 cm core
+  // elsewhere) and one raised marker, 0.13 m long, in the 2.5 m gap between them, where two
+  // image rows (0.11 m apart at 6.6 m) both find it: still a point on the line, which joins the
+  // dashes into no stretch (one stretch would run on without a break, as a rail head does)
+  const BoundaryCandidate c = narrowLine(
+      [](double z) {
+        return (z >= 4.0 && z < 5.5) || (z >= 6.54 && z < 6.67) || (z >= 8.0 && z < 9.0);
+      },
+      5.5, [](double z) { return z < 4.4 ? 0.12 : 0.05; });
   EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
-  EXPECT_EQ(c.evidence.kind, BoundaryKind::kRoadEdge) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
+}
+
+TEST(BoundaryCandidateFinder, NarrowLineWithoutPaintWidthJoinedByMarkersIsNoBoundary) {
+  // the same line no row of which measures paint width (a seam's rim): its stretches tell its
+  // cover, 75% of it, too much for dashes, and its 2.5 m break is none a rail head has
+  const BoundaryCandidate c = wornDashesWithMarkers(0.0);
+  EXPECT_FALSE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "broken narrow line");
+}
+
+TEST(BoundaryCandidateFinder, BrokenNarrowLineIsNoRailHead) {
+  // a narrow bright line from 4 to 8 m and from 10.5 to 14 m (the rim of a seam, broken where
+  // the seam is filled): a rail head runs on without a break, and the two pieces cover 75% of
+  // the line, more than a dashed line's paint: no boundary
+  const BoundaryCandidate c =
+      narrowLine([](double z) { return (z >= 4.0 && z < 8.0) || (z >= 10.5 && z < 14.0); }, 14.0);
+  EXPECT_FALSE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "broken narrow line");
 }
 
 // A dashed lane line (15 cm, 3 m dashes every 9 m) 1.8 m left of the camera on a level road; the
