@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -90,13 +91,16 @@ class BandProfile {
                  double inside, double& edge);
 
  private:
-  /// Segment profile_ (centre index @p W) into bands above @p low over the background @p base.
-  void findBands(int W, float base, float low);
+  /// Segment profile_ (centre index @p W) into bands above @p low over the background @p base;
+  /// only the runs above @p low that may hold a band centred within @p reach px of the line.
+  void findBands(int W, float base, float low, double reach);
   /// Append the band of profile offsets [a, b] (its peak and half-peak edges).
   void addBand(int a, int b, float base, bool open, int W);
 
   std::vector<float> profile_;
-  std::vector<float> reach_;          ///< grey of the columns a row's averaging boxes reach
+  std::vector<float> run_max_;        ///< findBands(): the highest grey to a run's end
+  std::vector<uint8_t> grey_row_;     ///< grey of the columns a row's profile reads
+  std::vector<int> prefix_;           ///< their running sum (measureRow()'s averaging boxes)
   std::vector<Band> bands_;
   std::vector<float> side_;           ///< grey values of a row's sides (medians)
   std::vector<float> dev_;            ///< their absolute deviations (the row's noise)

@@ -77,9 +77,11 @@ class BoundaryClassifier {
    * @param[in] left true for a line left of the vehicle (its outer side is to the left).
    * @param[in] p thresholds (paint_contrast, paint_width_min/max, kerb_height, edge_chroma).
    * @param[out] ev measurements and verdict.
+   * @param[in] cut cut the line where it runs into an object first (cutAtObject()); false for a
+   *            line cut so already and not moved since (a second cut finds nothing).
    */
   void classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels, bool left,
-                const Params& p, BoundaryEvidence& ev);
+                const Params& p, BoundaryEvidence& ev, bool cut = true);
 
   /**
    * @brief Cut a line where it runs into an object: from the first pixel (near to far) at which

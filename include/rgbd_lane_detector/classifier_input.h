@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,6 +63,8 @@ class ImageRow {
     cn_ = in.colour->channels();
     const PixelLayout layout = pixelLayout(in.format);
     r_ = layout.r, g_ = layout.g, b_ = layout.b;
+    format_ = in.format;
+    layout_channels_ = layout.channels;
   }
   bool valid() const { return colour_ != nullptr; }
   /// Grey value (BT.601 luma, greyValue()) at column @p u.
@@ -70,10 +73,31 @@ class ImageRow {
     const uint8_t* px = colour_ + static_cast<size_t>(u) * cn_;
     return cn_ == 1 ? px[0] : greyValue(px[r_], px[g_], px[b_]);
   }
+  /// grey() of the @p n columns from @p u0 on, into @p out (the row's pixels converted at once:
+  /// a profile reads a few hundred of them per row).
+  void greyRun(int u0, int n, uint8_t* out) const {
+    if (grey_) {
+      std::memcpy(out, grey_ + u0, static_cast<size_t>(n));
+    } else if (cn_ == 1) {
+      std::memcpy(out, colour_ + u0, static_cast<size_t>(n));
+    } else if (cn_ == layout_channels_) {
+      greyPixels(colour_ + static_cast<size_t>(u0) * cn_, format_, n, out);
+    } else {
+      for (int i = 0; i < n; ++i) out[i] = static_cast<uint8_t>(grey(u0 + i));
+    }
+  }
   /// Colour at column @p u (0-255).
   void rgb(int u, float& R, float& G, float& B) const {
     const uint8_t* px = colour_ + static_cast<size_t>(u) * cn_;
     R = px[r_], G = px[g_], B = px[b_];
+  }
+  /// Sums of the red, green and blue of the @p n columns from @p u0 on (0-255 each).
+  void rgbSums(int u0, int n, int& R, int& G, int& B) const {
+    const uint8_t* px = colour_ + static_cast<size_t>(u0) * cn_;
+    const int cn = cn_, r = r_, g = g_, b = b_;
+    int sr = 0, sg = 0, sb = 0;
+    for (int i = 0; i < n; ++i, px += cn) sr += px[r], sg += px[g], sb += px[b];
+    R = sr, G = sg, B = sb;
   }
   /// rg chromaticity at column @p u.
   void chroma(int u, float& r, float& g) const {
@@ -88,6 +112,8 @@ class ImageRow {
   const uint8_t* grey_ = nullptr;
   const uint8_t* colour_ = nullptr;
   int cn_ = 1, r_ = 0, g_ = 0, b_ = 0;
+  PixelFormat format_ = PixelFormat::kBgr8;
+  int layout_channels_ = 3;
 };
 
 }  // namespace rgbd_lane_detector

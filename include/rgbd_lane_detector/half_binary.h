@@ -35,6 +35,10 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out, const cv::Mat& col_map, const cv::Mat& row_map);
 
+/// greyValue() of the @p n pixels of format @p format at @p src into @p dst (the row kernel of
+/// halfBinary(), vectorised: the classifier's profiles read a few hundred pixels a row).
+void greyPixels(const uint8_t* src, PixelFormat format, int n, uint8_t* dst);
+
 /// Grey value of one pixel with the weights halfBinary() uses: OpenCV's 15-bit fixed-point
 /// BT.601 (0.299, 0.587, 0.114), so it equals cv::cvtColor(..., COLOR_BGR2GRAY) bit for bit.
 inline int greyValue(int r, int g, int b) {

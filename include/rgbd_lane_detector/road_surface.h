@@ -130,6 +130,12 @@ class RoadSurface {
   /// The samples within fit_range collectGrid() would find on the grid of @p stride.
   int nearGridCount(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
                     int stride) const;
+  /// The near samples collectGrid() would find on the grid of @p stride where fewer than
+  /// kMinSamples lie within fit_range (its far samples within twice fit_range join them),
+  /// counted, not collected: the corridor's pixels are counted once for every stride in
+  /// @p corridor (-1: not yet), the grid's own then taken off.
+  int extendedGridCount(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
+                        int stride, int& corridor) const;
   bool plausible(const Eigen::Vector3d& n, double d, const RoadSurfaceSettings& s) const;
   /// Weighted count of the near samples within the band of (n, d); @p below (optional) gets
   /// the weight of those more than two bands below it (beyond the road, seen from the camera).

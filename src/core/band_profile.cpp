@@ -28,6 +28,10 @@ constexpr double kTextureScale = 0.015;
 
 BandProfile::BandProfile() {
   side_.reserve(2 * kMaxProfileHalf + 1);
+  run_max_.resize(2 * kMaxProfileHalf + 1);
+  // (a row's grey over the profile and its averaging boxes, which reach a few pixels beyond it)
+  grey_row_.reserve(4 * kMaxProfileHalf);
+  prefix_.reserve(4 * kMaxProfileHalf);
   dev_.reserve(2 * kMaxProfileHalf + 1);
 }
 
@@ -48,30 +52,44 @@ void BandProfile::addBand(int a, int b, float base, bool open, int W) {
   bands_.push_back(band);
 }
 
-void BandProfile::findBands(int W, float base, float low) {
+void BandProfile::findBands(int W, float base, float low, double reach) {
   // Runs of the profile above `low`, split at dips deeper than half the contrast of the lower
   // of the peaks either side (a rail head next to a painted line), each band measured at half
   // its own peak.
   bands_.clear();
   const float* P = profile_.data() + W;  // P[k], k in [-W, W]
-  int k = -W;
-  while (k <= W) {
+  // only the runs that reach into (-reach - 1, reach + 1): from the one through its left end on
+  // (a band's centre lies within one pixel of its run)
+  int k = std::max(-W, static_cast<int>(std::floor(-reach)) - 1);
+  if (P[k] >= low)
+    while (k - 1 >= -W && P[k - 1] >= low) --k;
+  const int k_stop = std::min(W, static_cast<int>(std::ceil(reach)) + 1);
+  while (k <= k_stop) {
     if (P[k] < low) {
       ++k;
       continue;
     }
     int end = k;
     while (end + 1 <= W && P[end + 1] >= low) ++end;
+    if (end + 1 <= -reach || k - 1 >= reach) {  // its bands' centres lie in (k - 1, end + 1)
+      k = end + 1;
+      continue;
+    }
+    // the highest value from each offset to the run's end, and from the band's start to each
+    // offset, kept as it goes (one pass each, not one per local minimum)
+    float* after_max = run_max_.data() + W;  // after_max[j]: max of P[j..end]
+    after_max[end] = P[end];
+    for (int j = end - 1; j > k; --j) after_max[j] = std::max(after_max[j + 1], P[j]);
     int seg = k;
+    float before = P[k];  // max of P[seg..j]
     for (int j = k + 1; j < end; ++j) {
+      before = std::max(before, P[j]);
       if (!(P[j] <= P[j - 1] && P[j] < P[j + 1])) continue;  // local minima only
-      float before = P[seg], after = P[j];
-      for (int i = seg; i <= j; ++i) before = std::max(before, P[i]);
-      for (int i = j; i <= end; ++i) after = std::max(after, P[i]);
-      const float m = std::min(before, after);
+      const float m = std::min(before, after_max[j]);
       if (m - P[j] > 0.5f * (m - base)) {
         addBand(seg, j - 1, base, seg == -W, W);
         seg = j + 1;
+        before = P[seg];
       }
     }
     addBand(seg, end, base, seg == -W || end == W, W);
@@ -104,21 +122,33 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
     // the row's grey over the boxes' reach, read once (without a grey image it is computed from
     // the colour, and every pixel enters a box and leaves it)
     const int last = colour.cols - 1;
-    const int x0 = std::max(0, m.u0 - m.W - h), x1 = std::min(last, m.u0 + m.W + h + 1);
-    reach_.resize(static_cast<size_t>(x1 - x0 + 1));
-    for (int x = x0; x <= x1; ++x) reach_[x - x0] = row.grey(x);
-    const auto g = [&](int x) { return reach_[static_cast<size_t>(x - x0)]; };  // column x
-    float sum = 0.f;
-    int n = 0;
-    for (int x = x0; x <= std::min(last, m.u0 - m.W + h); ++x, ++n) sum += g(x);
-    for (int k = -m.W; k <= m.W; ++k) {
-      profile_[k + m.W] = sum / static_cast<float>(n);
-      const int leaving = m.u0 + k - h, entering = m.u0 + k + h + 1;  // the box one pixel on
-      if (leaving >= 0) sum -= g(leaving), --n;
-      if (entering <= last) sum += g(entering), ++n;
-    }
+    const int x0 = std::max(0, m.u0 - m.W - h), x1 = std::min(last, m.u0 + m.W + h);
+    const int n = x1 - x0 + 1;
+    grey_row_.resize(static_cast<size_t>(n));
+    row.greyRun(x0, n, grey_row_.data());
+    // the box sums from the running sum of the row's grey (integers: exact in any order)
+    prefix_.resize(static_cast<size_t>(n) + 1);
+    prefix_[0] = 0;
+    for (int i = 0; i < n; ++i) prefix_[i + 1] = prefix_[i] + grey_row_[i];
+    const int* S = prefix_.data() - x0;  // S[x]: the grey of the columns x0 .. x - 1
+    float* out = profile_.data() + m.W;
+    const auto box = [&](int k) {  // the box [u0 + k - h, u0 + k + h], cut at the image border
+      const int lo = std::max(0, m.u0 + k - h), hi = std::min(last, m.u0 + k + h);
+      out[k] = static_cast<float>(S[hi + 1] - S[lo]) / static_cast<float>(hi - lo + 1);
+    };
+    // (inside the image, k in [h - u0, last - h - u0], every box is whole: 2 h + 1 pixels)
+    const int k_in = std::min(m.W + 1, std::max(-m.W, h - m.u0));
+    const int k_out = std::max(k_in - 1, std::min(m.W, last - h - m.u0));
+    const float whole = static_cast<float>(2 * h + 1);
+    int k = -m.W;
+    for (; k < k_in; ++k) box(k);
+    for (; k <= k_out; ++k)
+      out[k] = static_cast<float>(S[m.u0 + k + h + 1] - S[m.u0 + k - h]) / whole;
+    for (; k <= m.W; ++k) box(k);
   } else {
-    for (int k = -m.W; k <= m.W; ++k) profile_[k + m.W] = row.grey(m.u0 + k);
+    grey_row_.resize(static_cast<size_t>(2 * m.W + 1));
+    row.greyRun(m.u0 - m.W, 2 * m.W + 1, grey_row_.data());
+    for (int k = 0; k <= 2 * m.W; ++k) profile_[k] = grey_row_[k];
   }
   // backgrounds of both sides, outward from the trace
   m.outer_dir = left ? -1 : 1;  // image direction away from the vehicle
@@ -131,16 +161,11 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
     const int n = std::min(s1, m.W) - s0 + 1;
     if (n <= 0) return false;
     side_.resize(n);
-    double sr = 0, sg = 0, sb = 0;
-    for (int i = 0; i < n; ++i) {
-      const int k = s0 + i;
-      float R, G, B;
-      row.rgb(m.u0 + dir * k, R, G, B);
-      side_[i] = profile_[m.W + dir * k];
-      sr += R;
-      sg += G;
-      sb += B;
-    }
+    for (int i = 0; i < n; ++i) side_[i] = profile_[m.W + dir * (s0 + i)];
+    // (the colour sums in integers, over the side's columns left to right: exact, as doubles)
+    int isr = 0, isg = 0, isb = 0;
+    row.rgbSums(dir > 0 ? m.u0 + s0 : m.u0 - s0 - (n - 1), n, isr, isg, isb);
+    const double sr = isr, sg = isg, sb = isb;
     // the chromaticity of the side's mean colour (dark pixels' colour is mostly noise: each
     // pixel counts by its brightness)
     const double sum = sr + sg + sb;
@@ -171,8 +196,8 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
   // bright bands near the trace, by width where the pixels resolve them: the painted one
   // nearest the trace, else a narrow one (a rail head), else a wide one
   if (m.ppm >= kWidthPixelsPerMetre) {
-    findBands(m.W, m.top, m.top + m.contrast);
     const double reach = kBandReach * m.ppm;
+    findBands(m.W, m.top, m.top + m.contrast, reach);
     for (const Band& b : bands_) {
       const double centre = 0.5 * (b.lo + b.hi);
       if (b.open || std::fabs(centre) > reach) continue;
@@ -195,28 +220,27 @@ bool BandProfile::bandCentre(const ClassifierInput& in, int v, double u, int hal
   if (u0 - W < 0 || u0 + W >= in.colour->cols) return false;
   const ImageRow row(in, v);
   if (!row.valid()) return false;
-  profile_.resize(2 * W + 1);
-  for (int k = -W; k <= W; ++k) profile_[k + W] = row.grey(u0 + k);
-  // the road beside the window, and the brightest pixel in it
-  side_.resize(2 * (W - half));  // (the columns beyond half either side)
-  std::copy(profile_.begin(), profile_.begin() + (W - half), side_.begin());
-  std::copy(profile_.begin() + (W + half + 1), profile_.end(), side_.begin() + (W - half));
-  const float bg = greyMedian(side_);
+  grey_row_.resize(static_cast<size_t>(2 * W + 1));
+  row.greyRun(u0 - W, 2 * W + 1, grey_row_.data());
+  const uint8_t* P = grey_row_.data() + W;  // P[k], k in [-W, W]
+  // the road beside the window (the columns beyond half either side), and the brightest pixel
+  // in it
+  const float bg = greyMedian(P - W, W - half, P + half + 1, W - half);
   int kp = -half;
   for (int k = -half; k <= half; ++k)
-    if (profile_[k + W] > profile_[kp + W]) kp = k;
-  const float peak = profile_[kp + W];
+    if (P[k] > P[kp]) kp = k;
+  const float peak = P[kp];
   if (peak - bg < std::max(kMinContrast, static_cast<float>(p.paint_contrast) * std::max(bg, 1.0f)))
     return false;
   const float level = bg + 0.5f * (peak - bg);
   int l = kp, r = kp;
-  while (l - 1 >= -W && profile_[l - 1 + W] >= level) --l;
-  while (r + 1 <= W && profile_[r + 1 + W] >= level) ++r;
+  while (l - 1 >= -W && P[l - 1] >= level) --l;
+  while (r + 1 <= W && P[r + 1] >= level) ++r;
   if (r - l + 1 > max_px || l == -W || r == W) return false;
   if (width != nullptr) *width = r - l + 1;
   double sw = 0.0, sx = 0.0;
   for (int k = l; k <= r; ++k) {
-    const double w = profile_[k + W] - level + 1e-3;
+    const double w = static_cast<float>(P[k]) - level + 1e-3;
     sw += w;
     sx += w * k;
   }

@@ -126,11 +126,12 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
             continue;
           }
         }
-        classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
+        const bool moved = classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
-        // followed into the depth tells it again (a kerb's bright top is no paint)
+        // followed into the depth tells it again (a kerb's bright top is no paint; cut at a
+        // vehicle above, unless the double line's centre moved it)
         if (!std::isfinite(c.evidence.line_height)) {
-          classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+          classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence, moved);
           matchLengths(c.trace);
           if (c.evidence.kind == BoundaryKind::kRoadEdge &&
               c.evidence.narrow_rows >= c.evidence.rows / 2)

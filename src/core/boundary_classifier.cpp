@@ -187,7 +187,7 @@ bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::
 }
 
 void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
-                                  bool left, const Params& p, BoundaryEvidence& ev) {
+                                  bool left, const Params& p, BoundaryEvidence& ev, bool cut) {
   ev = BoundaryEvidence();
   for (auto* v : {&ridge_, &step_, &chroma_, &width_, &line_h_, &inner_h_, &outer_h_, &shift_,
                   &pair_step_, &pair_raise_, &far_step_})
@@ -202,7 +202,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
   }
   // a line on the road that runs up to a vehicle ahead (its far rows, or the lane beside them,
   // read the vehicle's depth) is the line up to the vehicle
-  cutAtObject(in, pixels, left, p);
+  if (cut) cutAtObject(in, pixels, left, p);
   const Intrinsics& K = in.K;
   const double cos_heading = in.cosHeading(pixels);
 

@@ -30,14 +30,23 @@ float ClassifierInput::heightAt(int u, int v) const {
   if (x < 0 || y < 0 || x >= P.cols || y >= P.rows) return kNaN;
   // the pixel's own depth, else the nearest in its column within kHeightSearch rows (a LiDAR's
   // scan lines leave rows between them empty); filled road points are no measurement
-  for (int k = 0; k <= kHeightSearch; ++k) {
-    for (int yy : {y + k, y - k}) {
-      if (yy < 0 || yy >= P.rows || (k == 0 && yy != y)) continue;
-      if (filled != nullptr && filled->at<uint8_t>(yy, x) != 0) continue;
-      const float* q = P.ptr<float>(yy) + 3 * x;
-      if (!std::isfinite(q[2])) continue;
-      return static_cast<float>(planeDistance(*plane, Eigen::Vector3f(q[0], q[1], q[2])));
-    }
+  // (the column's point and mask addresses once, row by row from them)
+  const uint8_t* column = P.data + 3 * sizeof(float) * x;
+  const size_t step = P.step[0];
+  const uint8_t* fill = filled != nullptr ? filled->data + x : nullptr;
+  const size_t fill_step = filled != nullptr ? filled->step[0] : 0;
+  auto height = [&](int yy, float& h) {
+    if (fill != nullptr && fill[yy * fill_step] != 0) return false;
+    const float* q = reinterpret_cast<const float*>(column + yy * step);
+    if (!std::isfinite(q[2])) return false;
+    h = static_cast<float>(planeDistance(*plane, Eigen::Vector3f(q[0], q[1], q[2])));
+    return true;
+  };
+  float h = kNaN;
+  if (height(y, h)) return h;
+  for (int k = 1; k <= kHeightSearch; ++k) {
+    if (y + k < P.rows && height(y + k, h)) return h;
+    if (y - k >= 0 && height(y - k, h)) return h;
   }
   return kNaN;
 }

@@ -241,6 +241,10 @@ int clampTau(int tau_c) {
 
 }  // namespace
 
+void greyPixels(const uint8_t* src, PixelFormat format, int n, uint8_t* dst) {
+  convertAnyRow(format, src, dst, n, 0);  // (TOZERO at 0 keeps every grey value)
+}
+
 void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::Range& rows,
                 cv::Mat& out) {
   const cv::Range r = outputRows(colour.size(), rows, out);

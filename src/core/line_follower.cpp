@@ -48,8 +48,25 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
     v_near = std::max(v_near, static_cast<int>(std::lround(c.y)));
     v_far = std::min(v_far, static_cast<int>(std::lround(c.y)));
   }
+  // (rows that never rise from near to far, as a trace's mostly do: the first segment holding a
+  // row is found by bisection, not by a walk from the trace's start on every row)
+  const bool descending =
+      std::all_of(pixels.begin(), pixels.end(),
+                  [](const cv::Point2f& c) { return std::isfinite(c.y); }) &&
+      std::is_sorted(pixels.begin(), pixels.end(),
+                     [](const cv::Point2f& a, const cv::Point2f& b) { return a.y > b.y; });
   auto traceColumn = [&](double v) {  // the trace polyline's column at row v (rows decrease)
-    for (size_t i = 1; i < pixels.size(); ++i) {
+    size_t i = 1;
+    if (descending) {
+      // the first point at or above row v ends the first segment holding it (those before it
+      // lie below v; the segment holds v when its near end is at or below v)
+      i = static_cast<size_t>(
+          std::partition_point(pixels.begin() + 1, pixels.end(),
+                               [v](const cv::Point2f& c) { return !(v >= c.y); }) -
+          pixels.begin());
+      if (i < pixels.size() && !(v <= pixels[i - 1].y)) i = pixels.size();
+    }
+    for (; i < pixels.size(); ++i) {
       const cv::Point2f& a = pixels[i - 1];
       const cv::Point2f& b = pixels[i];
       if ((v <= a.y && v >= b.y) || (v >= a.y && v <= b.y)) {
@@ -80,6 +97,10 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
     follow_steers_.clear();
     double last_f = -1.0, measured_f = -1.0;
     int steering = 0;  // paint-like rows found
+    // the line through the rows found, (su - b sv) / s1 + b v, fitted for fit_rows rows found
+    // (refitted only when a row is found: most rows are passed over, or find nothing)
+    double fit_s1 = 0.0, fit_sv = 0.0, fit_su = 0.0, fit_b = 0.0;
+    size_t fit_rows = 0;
     for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
       const bool inside = v <= v_near && v >= v_far;
       double u;
@@ -88,21 +109,25 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
       } else if (out.size() < 2) {
         u = ta + tb * v;
       } else {  // least-squares line u(v) through the last rows found that steer
-        // (the paint-like ones where two are found, else all)
-        const bool all = steering < 2;
-        size_t last = out.size() - 1;
-        while (!all && !follow_steers_[last]) --last;
-        double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
-        // the steering rows within kFollowFit of the last one
-        for (size_t i = last + 1; i-- > 0;) {
-          if (!all && !follow_steers_[i]) continue;
-          if (s1 >= 2 && std::fabs(follow_f_[i] - follow_f_[last]) > kFollowFit) break;
-          s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
-              suv += out[i].x * out[i].y;
+        if (fit_rows != out.size()) {
+          // (the paint-like ones where two are found, else all)
+          const bool all = steering < 2;
+          size_t last = out.size() - 1;
+          while (!all && !follow_steers_[last]) --last;
+          double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
+          // the steering rows within kFollowFit of the last one
+          for (size_t i = last + 1; i-- > 0;) {
+            if (!all && !follow_steers_[i]) continue;
+            if (s1 >= 2 && std::fabs(follow_f_[i] - follow_f_[last]) > kFollowFit) break;
+            s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
+                suv += out[i].x * out[i].y;
+          }
+          const double den = s1 * svv - sv * sv;
+          fit_b = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
+          fit_s1 = s1, fit_sv = sv, fit_su = su;
+          fit_rows = out.size();
         }
-        const double den = s1 * svv - sv * sv;
-        const double b = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
-        u = (su - b * sv) / s1 + b * v;
+        u = (fit_su - fit_b * fit_sv) / fit_s1 + fit_b * v;
       }
       double f = 0.0, ppm = 0.0;
       if (!road(u, v, f, ppm)) {

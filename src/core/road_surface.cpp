@@ -101,24 +101,85 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
   int stride =
       std::max(1, static_cast<int>(std::lround(std::sqrt(area / std::max(s.target_samples, 1)))));
   // the grid chosen by counting its samples (collectGrid() also scans the far corridor: only
-  // once, on the chosen grid, unless the count cannot tell without it)
+  // once, on the chosen grid; where the near samples are few, the far ones within twice
+  // fit_range join them, and the corridor's are counted once for every grid tried)
+  int corridor = -1;
   for (;;) {
     if (stride == 1) {  // the finest grid: no count decides anything
       collectGrid(points, rows, s, stride);
       return;
     }
     int count = nearGridCount(points, rows, s, stride);
-    const bool collected = count < kMinSamples;  // near_ depends on the far samples then
-    if (collected) {
+    if (count < kMinSamples) count = extendedGridCount(points, rows, s, stride, corridor);
+    if (!(2 * count < s.target_samples)) {
       collectGrid(points, rows, s, stride);
-      count = static_cast<int>(near_.size());
-    }
-    if (!(stride > 1 && 2 * count < s.target_samples)) {
-      if (!collected) collectGrid(points, rows, s, stride);
       return;
     }
     stride = std::max(1, stride / 2);
   }
+}
+
+int RoadSurface::extendedGridCount(const cv::Mat& points, const cv::Range& rows,
+                                   const RoadSurfaceSettings& s, int stride,
+                                   int& corridor) const {
+  // collectGrid()'s near_ after its extension: the grid's samples within fit_range or twice it,
+  // and the far corridor's samples of the pixels off the grid within twice fit_range (every
+  // corridor pixel that collectGrid() scans, less the grid's)
+  const float fit_range = static_cast<float>(s.fit_range);
+  const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
+  const float extended = 2.0f * fit_range;
+  const int centre = points.cols / 2;
+  const cv::Range far_cols =
+      s.far_columns.empty()
+          ? cv::Range(0, points.cols)
+          : cv::Range(std::max(0, s.far_columns.start), std::min(points.cols, s.far_columns.end));
+  // collectGrid()'s sample(): a number within max_range
+  auto valid = [max_range](const float* q) {
+    return (q[2] > 0.0f) && (q[2] <= max_range) && std::isfinite(q[0]) && std::isfinite(q[1]);
+  };
+  // a far corridor sample that joins the near ones
+  auto joins = [&](const float* q) {
+    return valid(q) && std::fabs(q[0]) < RoadSurface::kCorridorHalfWidth && q[2] > fit_range &&
+           !(q[2] > extended);
+  };
+  // the far rows, as collectGrid() tells them (far, or no depth at the centre)
+  auto farRow = [&](const float* row) { return !(row[3 * centre + 2] <= 0.9f * fit_range); };
+  // collectGrid()'s corridor scan passes over a block without depth from its first column on
+  const int first_block = (far_cols.start + kDepthBlock - 1) / kDepthBlock * kDepthBlock;
+  auto scanned = [&](const uint8_t* blocks, int x) {
+    return !(blocks && x >= first_block && !blocks[x / kDepthBlock]);
+  };
+  if (corridor < 0) {
+    corridor = 0;
+    for (int y = rows.start; y < rows.end; ++y) {
+      const float* row = points.ptr<float>(y);
+      if (!farRow(row)) continue;
+      const uint8_t* blocks = blockRow(points, y);
+      for (int x = far_cols.start; x < far_cols.end; ++x) {
+        if (blocks && x % kDepthBlock == 0 && !blocks[x / kDepthBlock]) {
+          x += kDepthBlock - 1;
+          continue;
+        }
+        corridor += joins(row + 3 * x);
+      }
+    }
+  }
+  int count = corridor;
+  for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
+    const float* row = points.ptr<float>(y);
+    const uint8_t* blocks = blockRow(points, y);
+    forEachGridColumn(blocks, points.cols, stride, [&](int x) {
+      const float* q = row + 3 * x;
+      if (valid(q) && (q[2] <= fit_range || !(q[2] > extended))) ++count;
+    });
+    if (!farRow(row)) continue;
+    // the grid's pixels of the corridor scan: collectGrid() samples them on the grid
+    const int x_first = stride / 2 + std::max(0, far_cols.start - stride / 2 + stride - 1) /
+                                          stride * stride;
+    for (int x = x_first; x < far_cols.end; x += stride)
+      if (scanned(blocks, x) && joins(row + 3 * x)) --count;
+  }
+  return count;
 }
 
 int RoadSurface::nearGridCount(const cv::Mat& points, const cv::Range& rows,

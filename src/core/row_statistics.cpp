@@ -49,6 +49,19 @@ float greyMedian(std::vector<float>& v) {
   return static_cast<float>(b);
 }
 
+float greyMedian(const uint8_t* a, int na, const uint8_t* b, int nb) {
+  const int n = std::max(na, 0) + std::max(nb, 0);
+  if (n == 0) return kNaN;
+  std::array<uint16_t, 256> count{};
+  int lowest = 255;
+  for (int i = 0; i < na; ++i) ++count[a[i]], lowest = std::min<int>(lowest, a[i]);
+  for (int i = 0; i < nb; ++i) ++count[b[i]], lowest = std::min<int>(lowest, b[i]);
+  const int rank = n / 2 + 1;  // the sorted values' [n / 2], counted from 1
+  int seen = 0, g = lowest;
+  while ((seen += count[g]) < rank) ++g;
+  return static_cast<float>(g);
+}
+
 bool stepInMostRows(std::vector<float>& steps, float least, int min_rows, double share,
                     float& step) {
   step = kNaN;

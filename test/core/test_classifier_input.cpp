@@ -134,5 +134,54 @@ TEST(ClassifierInput, ImageRowWithoutGreyComputesItFromTheColour) {
   EXPECT_FALSE(ImageRow(in, 3).valid());  // outside the rows
 }
 
+// A run of grey values (the profiles' read of a row, converted by the SIMD row kernel) is grey()
+// pixel for pixel, and a run's colour sums are those of rgb(): every format, with and without a
+// grey image, runs of any length and start (whole vectors and their tails).
+TEST(ClassifierInput, GreyRunAndColourSumsAreThoseOfEveryPixel) {
+  const int w = 203;
+  cv::Mat c3(2, w, CV_8UC3), c4(2, w, CV_8UC4), mono(2, w, CV_8UC1), grey(2, w, CV_8UC1);
+  cv::randu(c3, 0, 256);
+  cv::randu(c4, 0, 256);
+  cv::randu(mono, 0, 256);
+  cv::randu(grey, 0, 256);
+  struct Case {
+    const cv::Mat* colour;
+    PixelFormat format;
+    const cv::Mat* grey;
+  };
+  const Case cases[] = {{&c3, PixelFormat::kBgr8, nullptr},  {&c3, PixelFormat::kRgb8, nullptr},
+                        {&c4, PixelFormat::kBgra8, nullptr}, {&c4, PixelFormat::kRgba8, nullptr},
+                        {&mono, PixelFormat::kMono8, nullptr}, {&c3, PixelFormat::kBgr8, &grey}};
+  std::vector<uint8_t> run(w);
+  for (const Case& c : cases) {
+    ClassifierInput in;
+    in.colour = c.colour;
+    in.format = c.format;
+    in.grey = c.grey;
+    in.grey_rows = cv::Range(0, 2);
+    const ImageRow row(in, 1);
+    ASSERT_TRUE(row.valid());
+    for (int u0 : {0, 1, 7, 40}) {
+      for (int n : {1, 3, 16, 33, 97, w - 40}) {
+        row.greyRun(u0, n, run.data());
+        for (int i = 0; i < n; ++i)
+          ASSERT_EQ(run[i], row.grey(u0 + i)) << static_cast<int>(c.format) << " " << u0 + i;
+        if (c.format == PixelFormat::kMono8) continue;
+        int R = 0, G = 0, B = 0;
+        row.rgbSums(u0, n, R, G, B);
+        double r = 0.0, g = 0.0, b = 0.0;  // the colours one by one, as the profiles read them
+        for (int i = 0; i < n; ++i) {
+          float Ri, Gi, Bi;
+          row.rgb(u0 + i, Ri, Gi, Bi);
+          r += Ri, g += Gi, b += Bi;
+        }
+        EXPECT_EQ(R, r);
+        EXPECT_EQ(G, g);
+        EXPECT_EQ(B, b);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector

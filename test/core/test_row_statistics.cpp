@@ -3,6 +3,7 @@
 // agree on.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -54,6 +55,29 @@ TEST(RowStatistics, GreyMedianIsTheMedianOfGreyValues) {
   std::vector<float> flat(40, 80.f);
   flat[0] = 255.f;
   EXPECT_EQ(greyMedian(flat), 80.f);
+}
+
+// The median of two runs of grey bytes (a profile's two sides, read in place) is greyMedian() of
+// the same values as floats, on both of its paths (up to 16 values and counted), with ties.
+TEST(RowStatistics, GreyMedianOfTwoByteRunsIsGreyMedianOfTheirValues) {
+  std::mt19937 rng(13);
+  std::uniform_int_distribution<int> grey(60, 140);
+  for (int na : {0, 1, 3, 8, 9, 40, 96}) {
+    for (int nb : {0, 2, 3, 8, 17, 96}) {
+      std::vector<uint8_t> a(na + 1), b(nb + 1);
+      for (auto& x : a) x = static_cast<uint8_t>(grey(rng));
+      for (auto& x : b) x = static_cast<uint8_t>(grey(rng));
+      std::vector<float> v;
+      for (int i = 0; i < na; ++i) v.push_back(a[i]);
+      for (int i = 0; i < nb; ++i) v.push_back(b[i]);
+      const float got = greyMedian(a.data(), na, b.data(), nb);
+      if (v.empty()) {
+        EXPECT_TRUE(std::isnan(got));
+        continue;
+      }
+      EXPECT_EQ(got, greyMedian(v)) << na << " " << nb;
+    }
+  }
 }
 
 TEST(RowStatistics, StepInMostRowsNeedsTheShareAndTheRows) {
