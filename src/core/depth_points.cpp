@@ -18,7 +18,7 @@ namespace {
 // Source columns per chunk of a resampled 16-bit row told empty (all 0) at once.
 constexpr int kChunk = 32;
 // Chunks scanned between two prefetches of the next source row's same columns.
-constexpr int kPrefetchChunks = 8;
+constexpr int kPrefetchChunks = 16;
 }  // namespace
 }  // namespace rgbd_lane_detector
 #endif

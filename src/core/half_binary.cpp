@@ -237,7 +237,7 @@ void convertMappedFrom(PixelFormat format, const uint8_t* src, const int* cm, ui
 }
 
 // Output columns gathered between two prefetches of the next source row's same columns.
-constexpr int kPrefetchColumns = 128;
+constexpr int kPrefetchColumns = 256;
 
 // The output's rows: allocated (and zeroed: rows never converted read as 0) on a new size.
 cv::Range outputRows(const cv::Size& size, const cv::Range& rows, cv::Mat& out) {

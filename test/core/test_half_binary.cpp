@@ -66,7 +66,7 @@ TEST(HalfBinary, GreyWeightsAreBt601) {
 // Through index maps (the detector's processing scale): the half-binary image of the resampled
 // colour, on every target, for 1, 3 and 4 channels (both channel orders); the maps reach the last
 // source column (the 3-channel gather must not read past a row) and rows outside the range stay
-// 0. A row wider than the columns gathered between two prefetches (128) is gathered in parts.
+// 0. A row wider than the columns gathered between two prefetches (256) is gathered in parts.
 TEST(HalfBinary, ThroughIndexMapsIsTheResampledImage) {
   for (const cv::Size& size : {cv::Size(67, 41), cv::Size(497, 23)}) {
     const int w = size.width * 39 / 67, h = size.height * 25 / 41;
