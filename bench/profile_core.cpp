@@ -245,7 +245,9 @@ int main(int argc, char** argv) {
   dec.scale = f.depth_scale;
   dec.min_depth = params.min_depth;
   dec.max_depth = params.max_depth;
-  depthToPoints(f.depth, dec, f.intrinsics, cv::Range(0, f.colour.rows), pts);
+  DepthPointsTables tables;  // kept, as the detector keeps them
+  depthToPoints(f.depth, dec, f.intrinsics, cv::Range(0, f.colour.rows), pts, cv::Mat(), cv::Mat(),
+                nullptr, &tables);
   FalsNormals fals;
   fals.configure(pts.size(), f.intrinsics, params.normal_window);
   fals.computeGeometric(pts, rows, params, G);
@@ -271,7 +273,7 @@ int main(int argc, char** argv) {
     } else if (stage == "halfbinary") {
       halfBinary(f.colour, f.format, params.tau_c, rows, hb);
     } else if (stage == "points") {
-      depthToPoints(f.depth, dec, f.intrinsics, rows, pts);
+      depthToPoints(f.depth, dec, f.intrinsics, rows, pts, cv::Mat(), cv::Mat(), nullptr, &tables);
     } else if (stage == "normals") {  // the whole map (detect() with setFullGeometricMap)
       fals.computeGeometric(pts, rows, params, G);
     } else if (stage == "normals_only") {

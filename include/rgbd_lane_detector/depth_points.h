@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -31,6 +32,15 @@ struct DepthDecoder {
   }
 };
 
+/// The tables depthToPoints() makes for a call (each column's x factor, the source chunks of each
+/// depth block), kept by a caller that converts frame after frame: they only grow, so the calls
+/// after the first allocate nothing.
+struct DepthPointsTables {
+  std::vector<float> ax;
+  std::vector<int> spans;
+  std::vector<uint8_t> chunk_any;
+};
+
 /**
  * @brief Back-project a depth image: x = (u - cx) / fx * D, y = (v - cy) / fy * D, z = D.
  *
@@ -44,11 +54,14 @@ struct DepthDecoder {
  * @param[in] col_map optional: CV_32SC1 1xW source column of each output column.
  * @param[in] row_map optional: CV_32SC1 1xH source row of each output row.
  * @param[out] blocks optional: depthBlocks() of the rows filled (made while they are in cache).
+ * @param[in,out] tables optional: the call's tables, kept between calls (without them the call
+ *   allocates its own).
  * @return false when the depth type is unsupported.
  */
 bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intrinsics& K,
                    const cv::Range& rows, cv::Mat& points, const cv::Mat& col_map = cv::Mat(),
-                   const cv::Mat& row_map = cv::Mat(), cv::Mat* blocks = nullptr);
+                   const cv::Mat& row_map = cv::Mat(), cv::Mat* blocks = nullptr,
+                   DepthPointsTables* tables = nullptr);
 
 /// Columns per byte of a depth block map (depthBlocks()).
 constexpr int kDepthBlock = 16;

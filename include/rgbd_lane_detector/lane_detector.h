@@ -11,6 +11,7 @@
 
 #include "rgbd_lane_detector/boundary_candidates.h"
 #include "rgbd_lane_detector/boundary_classifier.h"
+#include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/fals_normals.h"
 #include "rgbd_lane_detector/lane_fitter.h"
 #include "rgbd_lane_detector/lane_model.h"
@@ -199,6 +200,7 @@ class LaneDetector {
   cv::Range grey_input_rows_;  ///< rows of the input image that the classifier's grey covers
   cv::Mat half_binary_;
   cv::Mat points_;
+  DepthPointsTables depth_tables_;  ///< depthToPoints()'s tables
   cv::Mat road_filled_;  ///< 255 where points_ holds the road plane, not depth (RoadSurface::extendToCamera())
   bool road_filled_valid_ = false;  ///< road_filled_ belongs to this frame
   cv::Mat geometric_;

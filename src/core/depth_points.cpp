@@ -17,6 +17,8 @@ namespace rgbd_lane_detector {
 namespace {
 // Source columns per chunk of a resampled 16-bit row told empty (all 0) at once.
 constexpr int kChunk = 32;
+// Chunks scanned between two prefetches of the next source row's same columns.
+constexpr int kPrefetchChunks = 16;
 }  // namespace
 }  // namespace rgbd_lane_detector
 #endif
@@ -85,55 +87,98 @@ void markBlocks(DF df, hn::Mask<DF> keep, int x, int N, uint8_t* blocks) {
   for (int b = x / kDepthBlock; b <= (x + N - 1) / kDepthBlock; ++b) blocks[b] = 1;
 }
 
-// 16-bit depth of one row (no column map): the decoder's range test as the interval [lo, hi] of
-// raw values, the decode in double rounded once, x from the table ax of float((u - cx) / fx).
-// Returns the columns done.
+// Points from the raw 16-bit values of a vector of N columns from x: the decoder's range test as
+// the interval [lo, hi] of raw values, the decode in double rounded once, x from the table ax of
+// float((u - cx) / fx).
+template <class D32>
+void pointsU16(D32 d32, hn::Vec<D32> raw, int x, double scale, int lo, int hi, const float* ax,
+               float ry, float* dst, uint8_t* blocks) {
+  const hn::Rebind<float, D32> df;
+  const hn::Half<decltype(df)> dfh;
+  const hn::Half<D32> d32h;
+  const hn::Rebind<double, decltype(d32h)> dd;
+  const int N = static_cast<int>(hn::Lanes(d32));
+  const auto in = hn::And(hn::Gt(raw, hn::Set(d32, lo - 1)), hn::Lt(raw, hn::Set(d32, hi + 1)));
+  if (hn::AllFalse(d32, in)) {  // (no block to mark either)
+    storeNaN(df, dst + 3 * x);
+    return;
+  }
+  const auto vscale = hn::Set(dd, scale);
+  const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
+  const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
+  storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
+  markBlocks(df, hn::RebindMask(df, in), x, N, blocks);
+}
+
+// Points of a vector of N columns from x with float depth d: valid when in (0, inf) and in
+// [lo, hi], the float bounds that compare as the decoder's double ones.
+template <class DF>
+void pointsF32(DF df, hn::Vec<DF> d, int x, float lo, float hi, const float* ax, float ry,
+               float* dst, uint8_t* blocks) {
+  const int N = static_cast<int>(hn::Lanes(df));
+  const auto ok = hn::And(
+      hn::And(hn::Gt(d, hn::Zero(df)), hn::Lt(d, hn::Set(df, std::numeric_limits<float>::infinity()))),
+      hn::And(hn::Ge(d, hn::Set(df, lo)), hn::Le(d, hn::Set(df, hi))));
+  if (hn::AllFalse(df, ok)) {
+    storeNaN(df, dst + 3 * x);
+    return;
+  }
+  storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
+  markBlocks(df, ok, x, N, blocks);
+}
+
+// 16-bit depth of one row (no column map): pointsU16() of each vector. Returns the columns done.
 int rowU16(const uint16_t* src, int w, double scale, int lo, int hi, const float* ax, float ry,
            float* dst, uint8_t* blocks) {
   const hn::ScalableTag<int32_t> d32;
   const hn::Rebind<uint16_t, decltype(d32)> d16;
-  const hn::Rebind<float, decltype(d32)> df;
-  const hn::Half<decltype(df)> dfh;
-  const hn::Half<decltype(d32)> d32h;
-  const hn::Rebind<double, decltype(d32h)> dd;
   const int N = static_cast<int>(hn::Lanes(d32));
-  const auto vscale = hn::Set(dd, scale);
+  int x = 0;
+  for (; x + N <= w; x += N)
+    pointsU16(d32, hn::PromoteTo(d32, hn::LoadU(d16, src + x)), x, scale, lo, hi, ax, ry, dst,
+              blocks);
+  return x;
+}
+
+// 16-bit depth of one row through a column map, the raw value of column x read straight from the
+// source row as the low half of a 32-bit lane at byte 2 cm[x] (no row gathered first: a wide
+// load of values just stored one by one waits for the stores; the caller keeps the 4 bytes
+// inside the row). Returns the columns done.
+int rowU16Map(const uint16_t* src, const int* cm, int w, double scale, int lo, int hi,
+              const float* ax, float ry, float* dst, uint8_t* blocks) {
+  const hn::ScalableTag<int32_t> d32;
+  const int N = static_cast<int>(hn::Lanes(d32));
+  const int32_t* base = reinterpret_cast<const int32_t*>(src);
+  const auto low = hn::Set(d32, 0xffff);
   int x = 0;
   for (; x + N <= w; x += N) {
-    const auto raw = hn::PromoteTo(d32, hn::LoadU(d16, src + x));
-    const auto in = hn::And(hn::Gt(raw, hn::Set(d32, lo - 1)), hn::Lt(raw, hn::Set(d32, hi + 1)));
-    if (hn::AllFalse(d32, in)) {  // (no block to mark either)
-      storeNaN(df, dst + 3 * x);
-      continue;
-    }
-    const auto d0 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::LowerHalf(d32h, raw)), vscale));
-    const auto d1 = hn::DemoteTo(dfh, hn::Mul(hn::PromoteTo(dd, hn::UpperHalf(d32h, raw)), vscale));
-    storePoints(df, hn::RebindMask(df, in), hn::Combine(df, d1, d0), ax + x, ry, dst + 3 * x);
-    markBlocks(df, hn::RebindMask(df, in), x, N, blocks);
+    const auto offsets = hn::ShiftLeft<1>(hn::LoadU(d32, cm + x));  // bytes
+    const auto raw = hn::And(hn::GatherOffset(d32, base, offsets), low);  // little-endian
+    pointsU16(d32, raw, x, scale, lo, hi, ax, ry, dst, blocks);
   }
   return x;
 }
 
-// Float depth of one row (no column map): valid when in (0, inf) and in [lo, hi], the float
-// bounds that compare as the decoder's double ones. Returns the columns done.
+// Float depth of one row (no column map): pointsF32() of each vector. Returns the columns done.
 int rowF32(const float* src, int w, float lo, float hi, const float* ax, float ry, float* dst,
            uint8_t* blocks) {
   const hn::ScalableTag<float> df;
   const int N = static_cast<int>(hn::Lanes(df));
-  const auto zero = hn::Zero(df), inf = hn::Set(df, std::numeric_limits<float>::infinity());
-  const auto vlo = hn::Set(df, lo), vhi = hn::Set(df, hi);
   int x = 0;
-  for (; x + N <= w; x += N) {
-    const auto d = hn::LoadU(df, src + x);
-    const auto ok =
-        hn::And(hn::And(hn::Gt(d, zero), hn::Lt(d, inf)), hn::And(hn::Ge(d, vlo), hn::Le(d, vhi)));
-    if (hn::AllFalse(df, ok)) {
-      storeNaN(df, dst + 3 * x);
-      continue;
-    }
-    storePoints(df, ok, d, ax + x, ry, dst + 3 * x);
-    markBlocks(df, ok, x, N, blocks);
-  }
+  for (; x + N <= w; x += N) pointsF32(df, hn::LoadU(df, src + x), x, lo, hi, ax, ry, dst, blocks);
+  return x;
+}
+
+// Float depth of one row through a column map, read straight from the source row. Returns the
+// columns done.
+int rowF32Map(const float* src, const int* cm, int w, float lo, float hi, const float* ax,
+              float ry, float* dst, uint8_t* blocks) {
+  const hn::ScalableTag<float> df;
+  const hn::RebindToSigned<decltype(df)> di;
+  const int N = static_cast<int>(hn::Lanes(df));
+  int x = 0;
+  for (; x + N <= w; x += N)
+    pointsF32(df, hn::GatherIndex(df, src, hn::LoadU(di, cm + x)), x, lo, hi, ax, ry, dst, blocks);
   return x;
 }
 
@@ -148,14 +193,24 @@ namespace {
 int rowU16Scalar(const uint16_t*, int, double, int, int, const float*, float, float*, uint8_t*) {
   return 0;
 }
+int rowU16MapScalar(const uint16_t*, const int*, int, double, int, int, const float*, float,
+                    float*, uint8_t*) {
+  return 0;
+}
 int rowF32Scalar(const float*, int, float, float, const float*, float, float*, uint8_t*) {
+  return 0;
+}
+int rowF32MapScalar(const float*, const int*, int, float, float, const float*, float, float*,
+                    uint8_t*) {
   return 0;
 }
 int chunksWithDepthScalar(const uint16_t*, int, uint8_t*) { return 0; }
 int nanColumnsScalar(float*, int) { return 0; }
 #ifdef RLD_HAVE_HWY
 HWY_EXPORT(rowU16);
+HWY_EXPORT(rowU16Map);
 HWY_EXPORT(rowF32);
+HWY_EXPORT(rowF32Map);
 HWY_EXPORT(chunksWithDepth);
 HWY_EXPORT(nanColumns);
 #endif
@@ -233,16 +288,14 @@ void allocateBlocks(const cv::Size& size, cv::Mat& blocks) {
 template <typename T>
 void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrinsics& K, int r0,
                  int r1, cv::Mat& points, const int* col_map, const int* row_map,
-                 cv::Mat* blocks) {
+                 cv::Mat* blocks, DepthPointsTables& tables) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const double inv_fx = 1.0 / K.fx;
   const double inv_fy = 1.0 / K.fy;
   const int w = points.cols;
   // the vector rows: the x factors of the columns (of their source columns when resampled) and
-  // the valid raw range, once per call; a resampled row is first gathered into a row of the
-  // processing width (the tables are per thread and only grow)
-  thread_local std::vector<float> ax;
-  thread_local std::vector<T> gathered;
+  // the valid raw range, once per call
+  std::vector<float>& ax = tables.ax;
   const bool u16 = std::is_same<T, uint16_t>::value;
   int raw_lo = 1, raw_hi = 0;
   float f_lo = 0.f, f_hi = 0.f;
@@ -255,12 +308,16 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
     if (static_cast<int>(ax.size()) < w) ax.resize(w);
     for (int x = 0; x < w; ++x)
       ax[x] = static_cast<float>(((col_map ? col_map[x] : x) - K.cx) * inv_fx);
-    if (col_map && static_cast<int>(gathered.size()) < w) gathered.resize(w);
   }
+  // resampled 16-bit values are read as the low half of 4 bytes: the columns before w4 have
+  // their 4 bytes inside the source row
+  int w4 = w;
+  if (col_map && u16)
+    for (w4 = 0; w4 < w && col_map[w4] + 1 < depth.cols;) ++w4;
   // resampled 16-bit depth: the source chunks (kChunk columns) of each block of kDepthBlock
-  // processing columns; a block whose chunks hold only 0 has no depth (no gather, no conversion)
-  thread_local std::vector<int> spans;
-  thread_local std::vector<uint8_t> chunk_any;
+  // processing columns; a block whose chunks hold only 0 has no depth (no conversion)
+  std::vector<int>& spans = tables.spans;
+  std::vector<uint8_t>& chunk_any = tables.chunk_any;
   const int nb = (w + kDepthBlock - 1) / kDepthBlock;
   const int nc = (depth.cols + kChunk - 1) / kChunk;
   const bool by_blocks = vec && u16 && col_map;
@@ -279,16 +336,25 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
     const float ry = static_cast<float>((sy - K.cy) * inv_fy);
     uint8_t* bl = blocks ? blocks->ptr<uint8_t>(y) : nullptr;  // marked as the row is made
     if (bl) std::memset(bl, 0, blocks->cols);
-    // columns [x0, x1) of the row, row[x] the depth of processing column x
-    auto convert = [&](const T* row, int x0, int x1) {
+    // columns [x0, x1) of the row: the vector kernel (through the column map when resampled),
+    // then the per-pixel definition
+    auto convert = [&](int x0, int x1) {
       int x = x0;
       uint8_t* b = bl ? bl + x0 / kDepthBlock : nullptr;  // (x0: a block's first column)
-      if (vec && u16)
-        x += RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(row) + x0, x1 - x0,
+      const int xv = std::min(x1, w4);  // (w4 <= x0: no column for the vector kernel)
+      if (vec && u16 && col_map && xv > x0)
+        x += RLD_DISPATCH(rowU16Map)(reinterpret_cast<const uint16_t*>(src), col_map + x0,
+                                     xv - x0, decode.scale, raw_lo, raw_hi, ax.data() + x0, ry,
+                                     dst + 3 * x0, b);
+      else if (vec && u16 && !col_map)
+        x += RLD_DISPATCH(rowU16)(reinterpret_cast<const uint16_t*>(src) + x0, x1 - x0,
                                   decode.scale, raw_lo, raw_hi, ax.data() + x0, ry, dst + 3 * x0,
                                   b);
-      else if (vec)
-        x += RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(row) + x0, x1 - x0, f_lo, f_hi,
+      else if (vec && !u16 && col_map)
+        x += RLD_DISPATCH(rowF32Map)(reinterpret_cast<const float*>(src), col_map + x0, x1 - x0,
+                                     f_lo, f_hi, ax.data() + x0, ry, dst + 3 * x0, b);
+      else if (vec && !u16)
+        x += RLD_DISPATCH(rowF32)(reinterpret_cast<const float*>(src) + x0, x1 - x0, f_lo, f_hi,
                                   ax.data() + x0, ry, dst + 3 * x0, b);
       for (; x < x1; ++x) {
         const int sx = col_map ? col_map[x] : x;
@@ -304,50 +370,53 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
         if (bl) bl[x / kDepthBlock] = 1;
       }
     };
-    if (vec && col_map && y + 1 < r1)
-      prefetchRow(depth.ptr<uint8_t>(row_map[y + 1]), depth.cols * sizeof(T));
-    if (by_blocks) {
-      // runs of blocks with a source value other than 0 gathered and converted, the others NaN
-      // (raw 0 is no depth; most of a sparse LiDAR's row)
-      if constexpr (std::is_same<T, uint16_t>::value) {
-        const int full = depth.cols / kChunk;
-        int c = RLD_DISPATCH(chunksWithDepth)(src, full, chunk_any.data());
-        for (; c < nc; ++c) {
+    const uint8_t* next = vec && col_map && y + 1 < r1 ? depth.ptr<uint8_t>(row_map[y + 1]) : nullptr;
+    if (!by_blocks) {
+      if (next) prefetchRow(next, depth.cols * sizeof(T));
+      convert(0, w);
+      continue;
+    }
+    // runs of blocks with a source value other than 0 converted, the others NaN (raw 0 is no
+    // depth; most of a sparse LiDAR's row); the next source row is read into the cache a few
+    // lines at a time, each while the same lines of this row are scanned (a row's prefetches at
+    // once wait for each other)
+    if constexpr (std::is_same<T, uint16_t>::value) {
+      const int full = depth.cols / kChunk;
+      for (int c0 = 0; c0 < nc; c0 += kPrefetchChunks) {
+        const int c1 = std::min(nc, c0 + kPrefetchChunks);
+        if (next)
+          prefetchRow(next + sizeof(T) * c0 * kChunk,
+                      sizeof(T) * (std::min(depth.cols, c1 * kChunk) - c0 * kChunk));
+        const int vf = std::min(c1, full) - c0;  // full chunks
+        int c = c0;
+        if (vf > 0) c += RLD_DISPATCH(chunksWithDepth)(src + c0 * kChunk, vf, chunk_any.data() + c0);
+        for (; c < c1; ++c) {
           unsigned any = 0;
           for (int i = c * kChunk; i < std::min(depth.cols, (c + 1) * kChunk); ++i) any |= src[i];
           chunk_any[c] = any != 0;
         }
       }
-      auto empty = [&](int b) {
-        for (int c = spans[2 * b]; c <= spans[2 * b + 1]; ++c)
-          if (chunk_any[c]) return false;
-        return true;
-      };
-      for (int b = 0; b < nb;) {
-        int e = b;
-        while (e < nb && !empty(e)) ++e;
-        if (e > b) {
-          const int x0 = b * kDepthBlock, x1 = std::min(w, e * kDepthBlock);
-          for (int x = x0; x < x1; ++x) gathered[x] = src[col_map[x]];
-          convert(gathered.data(), x0, x1);
-          b = e;
-          if (b == nb) break;
-        }
-        // empty blocks from b on: NaN points
-        for (e = b + 1; e < nb && empty(e);) ++e;
-        const int x0 = b * kDepthBlock, x1 = std::min(w, e * kDepthBlock);
-        const int x = x0 + RLD_DISPATCH(nanColumns)(dst + 3 * x0, x1 - x0);
-        std::fill(dst + 3 * x, dst + 3 * x1, nan);
+    }
+    auto empty = [&](int b) {
+      for (int c = spans[2 * b]; c <= spans[2 * b + 1]; ++c)
+        if (chunk_any[c]) return false;
+      return true;
+    };
+    for (int b = 0; b < nb;) {
+      int e = b;
+      while (e < nb && !empty(e)) ++e;
+      if (e > b) {
+        convert(b * kDepthBlock, std::min(w, e * kDepthBlock));
         b = e;
+        if (b == nb) break;
       }
-      continue;
+      // empty blocks from b on: NaN points
+      for (e = b + 1; e < nb && empty(e);) ++e;
+      const int x0 = b * kDepthBlock, x1 = std::min(w, e * kDepthBlock);
+      const int x = x0 + RLD_DISPATCH(nanColumns)(dst + 3 * x0, x1 - x0);
+      std::fill(dst + 3 * x, dst + 3 * x1, nan);
+      b = e;
     }
-    const T* row = src;  // the row's depth by processing column
-    if (vec && col_map) {
-      for (int x = 0; x < w; ++x) gathered[x] = src[col_map[x]];
-      row = gathered.data();
-    }
-    convert(row, 0, w);
   }
 }
 
@@ -355,8 +424,10 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
 
 bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intrinsics& K,
                    const cv::Range& rows, cv::Mat& points, const cv::Mat& col_map,
-                   const cv::Mat& row_map, cv::Mat* blocks) {
+                   const cv::Mat& row_map, cv::Mat* blocks, DepthPointsTables* tables) {
   if (depth.type() != CV_16UC1 && depth.type() != CV_32FC1) return false;
+  DepthPointsTables local;  // (empty: allocates only when used)
+  DepthPointsTables& t = tables ? *tables : local;
   const cv::Size size(col_map.empty() ? depth.cols : static_cast<int>(col_map.total()),
                       row_map.empty() ? depth.rows : static_cast<int>(row_map.total()));
   points.create(size, CV_32FC3);
@@ -366,9 +437,9 @@ bool depthToPoints(const cv::Mat& depth, const DepthDecoder& decoder, const Intr
   const int* rm = row_map.empty() ? nullptr : row_map.ptr<int>();
   if (blocks) allocateBlocks(size, *blocks);
   if (depth.type() == CV_16UC1)
-    convertRows<uint16_t>(depth, decoder, K, r0, r1, points, cm, rm, blocks);
+    convertRows<uint16_t>(depth, decoder, K, r0, r1, points, cm, rm, blocks, t);
   else
-    convertRows<float>(depth, decoder, K, r0, r1, points, cm, rm, blocks);
+    convertRows<float>(depth, decoder, K, r0, r1, points, cm, rm, blocks, t);
   return true;
 }
 

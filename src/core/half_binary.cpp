@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <vector>
 
 #include "simd.h"
 
@@ -19,6 +18,18 @@ void convertRow(const uint8_t* src, uint8_t* dst, int from, int width, int tau_c
   src += L.channels * from;
   for (int x = from; x < width; ++x, src += L.channels) {
     const int g = L.channels == 1 ? src[0] : greyValue(src[L.r], src[L.g], src[L.b]);
+    dst[x] = g >= tau_c ? static_cast<uint8_t>(g) : 0;
+  }
+}
+// convertRow() of the columns [from, width) of an output row whose pixel x is the source row's
+// pixel cm[x].
+template <PixelFormat F>
+void convertMappedRow(const uint8_t* src, const int* cm, uint8_t* dst, int from, int width,
+                      int tau_c) {
+  constexpr PixelLayout L = pixelLayout(F);
+  for (int x = from; x < width; ++x) {
+    const uint8_t* p = src + L.channels * cm[x];
+    const int g = L.channels == 1 ? p[0] : greyValue(p[L.r], p[L.g], p[L.b]);
     dst[x] = g >= tau_c ? static_cast<uint8_t>(g) : 0;
   }
 }
@@ -212,18 +223,21 @@ int gatherAnyRow(PixelFormat format, const uint8_t* src, const int* cm, int n, u
   return 0;
 }
 
-// The per-pixel conversion of the columns [from, w) of a row.
-void convertRowFrom(PixelFormat format, const uint8_t* src, uint8_t* dst, int from, int w,
-                    int tau) {
+// The per-pixel conversion of the columns [from, w) of a row read through the column map.
+void convertMappedFrom(PixelFormat format, const uint8_t* src, const int* cm, uint8_t* dst,
+                       int from, int w, int tau) {
   using F = PixelFormat;
   switch (format) {
-    case F::kBgr8: convertRow<F::kBgr8>(src, dst, from, w, tau); break;
-    case F::kRgb8: convertRow<F::kRgb8>(src, dst, from, w, tau); break;
-    case F::kBgra8: convertRow<F::kBgra8>(src, dst, from, w, tau); break;
-    case F::kRgba8: convertRow<F::kRgba8>(src, dst, from, w, tau); break;
-    case F::kMono8: convertRow<F::kMono8>(src, dst, from, w, tau); break;
+    case F::kBgr8: convertMappedRow<F::kBgr8>(src, cm, dst, from, w, tau); break;
+    case F::kRgb8: convertMappedRow<F::kRgb8>(src, cm, dst, from, w, tau); break;
+    case F::kBgra8: convertMappedRow<F::kBgra8>(src, cm, dst, from, w, tau); break;
+    case F::kRgba8: convertMappedRow<F::kRgba8>(src, cm, dst, from, w, tau); break;
+    case F::kMono8: convertMappedRow<F::kMono8>(src, cm, dst, from, w, tau); break;
   }
 }
+
+// Output columns gathered between two prefetches of the next source row's same columns.
+constexpr int kPrefetchColumns = 256;
 
 // The output's rows: allocated (and zeroed: rows never converted read as 0) on a new size.
 cv::Range outputRows(const cv::Size& size, const cv::Range& rows, cv::Mat& out) {
@@ -261,42 +275,29 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
   const int* cm = col_map.ptr<int>();
   const int* rm = row_map.ptr<int>();
   const int e = static_cast<int>(colour.elemSize());
-  // each row's pixels gathered into a row of the output's width, then converted (the buffer is
-  // per thread and only grows); 3 bytes a pixel as one 4-byte copy that the next pixel
-  // overwrites, up to the first column whose 4th byte would be read past the source row
-  thread_local std::vector<uint8_t> gathered;
+  // colour: the columns whose 4 bytes lie inside the source row by the format's gather kernel
+  // (one 32-bit lane per pixel), the rest (all of a grey image, all on the scalar target) pixel
+  // by pixel through the map
   int w4 = 0;
   while (w4 < w && cm[w4] + 1 < colour.cols) ++w4;
-  const size_t row_bytes = colour.cols * colour.elemSize();
-  const size_t bytes = static_cast<size_t>(w) * e + 1;
-  if (gathered.size() < bytes) gathered.resize(bytes);
-  // colour: the columns whose 4 bytes lie inside the row straight from the source row by the
-  // gather kernel (as one 32-bit lane per pixel), the rest gathered and converted pixel by pixel
   const int gather_end = e == 4 ? w : e == 3 ? w4 : 0;
   for (int y = r.start; y < r.end; ++y) {
     const uint8_t* src = colour.ptr<uint8_t>(rm[y]);
     uint8_t* dst = out.ptr<uint8_t>(y);
-    uint8_t* g = gathered.data();
-    if (y + 1 < r.end) {  // the next source row into the cache while this one is gathered
-      const uint8_t* next = colour.ptr<uint8_t>(rm[y + 1]);
-      for (size_t i = 0; i < row_bytes; i += 64) __builtin_prefetch(next + i);
+    // the next source row into the cache a few lines at a time, each while the same columns of
+    // this row are gathered (a row's prefetches at once wait for each other)
+    const uint8_t* next = y + 1 < r.end ? colour.ptr<uint8_t>(rm[y + 1]) : nullptr;
+    for (int x0 = 0; x0 < w; x0 += kPrefetchColumns) {
+      const int x1 = std::min(w, x0 + kPrefetchColumns);
+      if (next) {
+        const uint8_t* end = next + e * (cm[x1 - 1] + 1);
+        for (const uint8_t* p = next + e * cm[x0]; p < end; p += 64) __builtin_prefetch(p);
+        __builtin_prefetch(end - 1);
+      }
+      const int xg = std::min(x1, gather_end);
+      const int done = x0 + (xg > x0 ? gatherAnyRow(format, src, cm + x0, xg - x0, dst + x0, tau) : 0);
+      convertMappedFrom(format, src, cm, dst, done, x1, tau);
     }
-    const int done = gather_end > 0 ? gatherAnyRow(format, src, cm, gather_end, dst, tau) : 0;
-    if (done > 0) {
-      for (int x = done; x < w; ++x) std::memcpy(g + x * e, src + cm[x] * e, e);
-      convertRowFrom(format, g, dst, done, w, tau);
-      continue;
-    }
-    if (e == 3) {
-      int x = 0;
-      for (; x < w4; ++x) std::memcpy(g + 3 * x, src + 3 * cm[x], 4);
-      for (; x < w; ++x) std::memcpy(g + 3 * x, src + 3 * cm[x], 3);
-    } else if (e == 4) {
-      for (int x = 0; x < w; ++x) std::memcpy(g + 4 * x, src + 4 * cm[x], 4);
-    } else {
-      for (int x = 0; x < w; ++x) std::memcpy(g + x * e, src + cm[x] * e, e);
-    }
-    convertAnyRow(format, g, dst, w, tau);
   }
 }
 

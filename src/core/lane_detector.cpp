@@ -213,7 +213,7 @@ void LaneDetector::computePoints(const Frame& frame) {
   decoder.min_depth = params_.min_depth;
   decoder.max_depth = params_.max_depth;
   depthToPoints(frame.depth, decoder, proc_K_, point_rows, points_, col_map_, row_map_,
-                &depth_blocks_);
+                &depth_blocks_, &depth_tables_);
   if (params_.fill_depth_holes > 0) {
     fillDepthHoles(points_, point_rows, params_.fill_depth_holes);
     depthBlocks(points_, point_rows, depth_blocks_);

@@ -1,5 +1,6 @@
 // Depth to organised 3D points (Eq. 1), invalid depth handling and hole filling.
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -247,6 +248,74 @@ TEST(DepthPoints, ResampledSparseRowsPassOverEmptySpans) {
     EXPECT_GT(with_depth, 6);
     depthBlocks(p, cv::Range(0, 4), again);
     EXPECT_EQ(cv::countNonZero(again != blocks), 0);
+  }
+  simd::forceTarget(simd::kBest);
+}
+
+// Resampled rows read straight from the source row through the column map (no row gathered
+// first), with the caller's tables kept from a wider call: 16-bit values at the source row's last
+// column (their 4 bytes would end past the row: the per-pixel definition reads them), float
+// depth, a row wider than the chunks scanned between two prefetches; on every target, the scalar
+// definition bit for bit and the same points as a call that makes its own tables.
+TEST(DepthPoints, ResampledThroughTheColumnMapWithKeptTables) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::RNG rng(11);
+  const int cols = 613;
+  cv::Mat mm(5, cols, CV_16UC1), metres(5, cols, CV_32FC1);
+  rng.fill(mm, cv::RNG::UNIFORM, 0, 65536);
+  rng.fill(metres, cv::RNG::UNIFORM, -1.0, 150.0);
+  for (int i = 0; i < 900; ++i) {  // runs of no depth, whole chunks among them
+    const int v = rng.uniform(0, 5), u = rng.uniform(0, cols - 40);
+    for (int k = 0; k < 40; ++k) {
+      mm.at<uint16_t>(v, u + k) = 0;
+      metres.at<float>(v, u + k) = nan;
+    }
+  }
+  for (int v = 0; v < 5; ++v) mm.at<uint16_t>(v, cols - 1) = static_cast<uint16_t>(20000 + v);
+  DepthDecoder dec;
+  dec.scale = 0.0013;
+  dec.min_depth = 0.2;
+  dec.max_depth = 80.0;
+  // a wide map first (the tables grow), then one of 330 columns whose last 40 read the last
+  // source column
+  cv::Mat wide(1, 600, CV_32SC1), col_map(1, 330, CV_32SC1), row_map(1, 5, CV_32SC1);
+  for (int x = 0; x < 600; ++x) wide.at<int>(x) = x;
+  for (int x = 0; x < 330; ++x) col_map.at<int>(x) = std::min(cols - 1, x * 2);
+  for (int x = 290; x < 330; ++x) col_map.at<int>(x) = cols - 1;
+  for (int y = 0; y < 5; ++y) row_map.at<int>(y) = 4 - y;
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (const cv::Mat& depth : {mm, metres}) {
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", type " << depth.type());
+      DepthPointsTables tables;
+      cv::Mat p, own, blocks, own_blocks;
+      ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 5), p, wide, row_map, &blocks,
+                                &tables));
+      ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 5), p, col_map, row_map, &blocks,
+                                &tables));
+      ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 5), own, col_map, row_map,
+                                &own_blocks));
+      ASSERT_GE(tables.ax.size(), 600u);
+      int with_depth = 0;
+      for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 330; ++x) {
+          const int u = col_map.at<int>(x), v = row_map.at<int>(y);
+          const float d = depth.type() == CV_16UC1 ? dec(depth.at<uint16_t>(v, u))
+                                                   : dec(depth.at<float>(v, u));
+          const cv::Vec3f q = p.at<cv::Vec3f>(y, x);
+          EXPECT_EQ(std::memcmp(&q, &own.at<cv::Vec3f>(y, x), sizeof(q)), 0) << y << " " << x;
+          if (std::isnan(d)) {
+            EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2]));
+            continue;
+          }
+          ++with_depth;
+          EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
+          EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d);
+          EXPECT_EQ(q[2], d);
+        }
+      EXPECT_GT(with_depth, 100);
+      EXPECT_EQ(cv::countNonZero(blocks != own_blocks), 0);
+    }
   }
   simd::forceTarget(simd::kBest);
 }

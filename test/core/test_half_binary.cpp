@@ -64,38 +64,43 @@ TEST(HalfBinary, GreyWeightsAreBt601) {
 }
 
 // Through index maps (the detector's processing scale): the half-binary image of the resampled
-// colour, on every target, for 1, 3 and 4 channels (both channel orders); the maps reach the last source column (the
-// 3-channel gather must not read past a row) and rows outside the range stay 0.
+// colour, on every target, for 1, 3 and 4 channels (both channel orders); the maps reach the last
+// source column (the 3-channel gather must not read past a row) and rows outside the range stay
+// 0. A row wider than the columns gathered between two prefetches (256) is gathered in parts.
 TEST(HalfBinary, ThroughIndexMapsIsTheResampledImage) {
-  cv::RNG rng(3);
-  cv::Mat bgr(41, 67, CV_8UC3);
-  rng.fill(bgr, cv::RNG::UNIFORM, 0, 256);
-  cv::Mat bgra, grey;
-  cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
-  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-  cv::Mat col_map(1, 39, CV_32SC1), row_map(1, 25, CV_32SC1);
-  for (int x = 0; x < 39; ++x)
-    col_map.at<int>(x) = std::min(66, static_cast<int>((x + 0.5) * 67 / 39));
-  for (int y = 0; y < 25; ++y)
-    row_map.at<int>(y) = std::min(40, static_cast<int>((y + 0.5) * 41 / 25));
-  col_map.at<int>(38) = 66;
-  const cv::Range rows(3, 22);
-  for (simd::Target target : simd::availableTargets()) {
-    simd::forceTarget(target);
-    for (const auto& [img, fmt] : {std::make_pair(bgr, PixelFormat::kBgr8),
-                                   std::make_pair(bgr, PixelFormat::kRgb8),
-                                   std::make_pair(bgra, PixelFormat::kBgra8),
-                                   std::make_pair(bgra, PixelFormat::kRgba8),
-                                   std::make_pair(grey, PixelFormat::kMono8)}) {
-      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", format "
-                                      << static_cast<int>(fmt));
-      for (int tau_c : {0, 100}) {
-        cv::Mat small, expected, out;
-        remapNearest(img, col_map, row_map, small);
-        halfBinary(small, fmt, tau_c, rows, expected);
-        halfBinary(img, fmt, tau_c, rows, out, col_map, row_map);
-        ASSERT_EQ(out.size(), cv::Size(39, 25));
-        EXPECT_EQ(cv::countNonZero(out != expected), 0);
+  for (const cv::Size& size : {cv::Size(67, 41), cv::Size(497, 23)}) {
+    const int w = size.width * 39 / 67, h = size.height * 25 / 41;
+    cv::RNG rng(3);
+    cv::Mat bgr(size, CV_8UC3);
+    rng.fill(bgr, cv::RNG::UNIFORM, 0, 256);
+    cv::Mat bgra, grey;
+    cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    cv::Mat col_map(1, w, CV_32SC1), row_map(1, h, CV_32SC1);
+    for (int x = 0; x < w; ++x)
+      col_map.at<int>(x) = std::min(size.width - 1, static_cast<int>((x + 0.5) * size.width / w));
+    for (int y = 0; y < h; ++y)
+      row_map.at<int>(y) =
+          std::min(size.height - 1, static_cast<int>((y + 0.5) * size.height / h));
+    col_map.at<int>(w - 1) = size.width - 1;
+    const cv::Range rows(3, h - 3);
+    for (simd::Target target : simd::availableTargets()) {
+      simd::forceTarget(target);
+      for (const auto& [img, fmt] : {std::make_pair(bgr, PixelFormat::kBgr8),
+                                     std::make_pair(bgr, PixelFormat::kRgb8),
+                                     std::make_pair(bgra, PixelFormat::kBgra8),
+                                     std::make_pair(bgra, PixelFormat::kRgba8),
+                                     std::make_pair(grey, PixelFormat::kMono8)}) {
+        SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", format "
+                                        << static_cast<int>(fmt) << ", width " << w);
+        for (int tau_c : {0, 100}) {
+          cv::Mat small, expected, out;
+          remapNearest(img, col_map, row_map, small);
+          halfBinary(small, fmt, tau_c, rows, expected);
+          halfBinary(img, fmt, tau_c, rows, out, col_map, row_map);
+          ASSERT_EQ(out.size(), cv::Size(w, h));
+          EXPECT_EQ(cv::countNonZero(out != expected), 0);
+        }
       }
     }
   }
