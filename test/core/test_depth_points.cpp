@@ -14,6 +14,19 @@ namespace {
 
 const Intrinsics kK{500.0, 400.0, 320.5, 240.25};
 
+// Expects @p q to be the scalar definition's point of source pixel (u, v) at depth @p d, bit for
+// bit (no point where d is NaN); true where the pixel has depth.
+bool isDefinition(const cv::Vec3f& q, int u, int v, float d) {
+  if (std::isnan(d)) {
+    EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2])) << u << " " << v;
+    return false;
+  }
+  EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d) << u << " " << v;
+  EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d) << u << " " << v;
+  EXPECT_EQ(q[2], d) << u << " " << v;
+  return true;
+}
+
 TEST(DepthPoints, ExactBackProjection) {
   cv::Mat depth(480, 640, CV_32FC1, cv::Scalar(2.0f));
   depth.at<float>(10, 600) = 7.5f;
@@ -140,13 +153,7 @@ TEST(DepthPoints, EveryPixelIsTheScalarDefinitionBitForBit) {
         const float d = depth.type() == CV_16UC1 ? dec(depth.at<uint16_t>(v, u))
                                                  : dec(depth.at<float>(v, u));
         const cv::Vec3f q = p.at<cv::Vec3f>(v, u);
-        if (std::isnan(d)) {
-          EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2]));
-          continue;
-        }
-        EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
-        EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d);
-        EXPECT_EQ(q[2], d);
+        isDefinition(q, u, v, d);
       }
   }
 }
@@ -187,14 +194,7 @@ TEST(DepthPoints, ResampledRowsAndTheDepthBlockMap) {
           const float d = depth.type() == CV_16UC1 ? dec(depth.at<uint16_t>(v, u))
                                                    : dec(depth.at<float>(v, u));
           const cv::Vec3f q = p.at<cv::Vec3f>(y, x);
-          if (std::isnan(d)) {
-            EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2]));
-            continue;
-          }
-          any[x / kDepthBlock] = true;
-          EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
-          EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d);
-          EXPECT_EQ(q[2], d);
+          if (isDefinition(q, u, v, d)) any[x / kDepthBlock] = true;
         }
         for (int b = 0; b < blocks.cols; ++b) {
           EXPECT_EQ(blocks.at<uint8_t>(y, b), any[b] ? 1 : 0) << y << " " << b;
@@ -236,14 +236,7 @@ TEST(DepthPoints, ResampledSparseRowsPassOverEmptySpans) {
         const int u = col_map.at<int>(x);
         const float d = dec(mm.at<uint16_t>(y, u));
         const cv::Vec3f q = p.at<cv::Vec3f>(y, x);
-        if (std::isnan(d)) {
-          EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2])) << y << " " << x;
-          continue;
-        }
-        ++with_depth;
-        EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
-        EXPECT_EQ(q[1], static_cast<float>((y - kK.cy) * (1.0 / kK.fy)) * d);
-        EXPECT_EQ(q[2], d);
+        with_depth += isDefinition(q, u, y, d);
       }
     EXPECT_GT(with_depth, 6);
     depthBlocks(p, cv::Range(0, 4), again);
@@ -304,14 +297,7 @@ TEST(DepthPoints, ResampledThroughTheColumnMapWithKeptTables) {
                                                    : dec(depth.at<float>(v, u));
           const cv::Vec3f q = p.at<cv::Vec3f>(y, x);
           EXPECT_EQ(std::memcmp(&q, &own.at<cv::Vec3f>(y, x), sizeof(q)), 0) << y << " " << x;
-          if (std::isnan(d)) {
-            EXPECT_TRUE(std::isnan(q[0]) && std::isnan(q[1]) && std::isnan(q[2]));
-            continue;
-          }
-          ++with_depth;
-          EXPECT_EQ(q[0], static_cast<float>((u - kK.cx) * (1.0 / kK.fx)) * d);
-          EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d);
-          EXPECT_EQ(q[2], d);
+          with_depth += isDefinition(q, u, v, d);
         }
       EXPECT_GT(with_depth, 100);
       EXPECT_EQ(cv::countNonZero(blocks != own_blocks), 0);
