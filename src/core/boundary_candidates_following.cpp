@@ -126,7 +126,8 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
             continue;
           }
         }
-        const bool moved = classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
+        const bool moved =
+            classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
         // followed into the depth tells it again (a kerb's bright top is no paint; cut at a
         // vehicle above, unless the double line's centre moved it)

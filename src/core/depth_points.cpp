@@ -116,9 +116,9 @@ template <class DF>
 void pointsF32(DF df, hn::Vec<DF> d, int x, float lo, float hi, const float* ax, float ry,
                float* dst, uint8_t* blocks) {
   const int N = static_cast<int>(hn::Lanes(df));
-  const auto ok = hn::And(
-      hn::And(hn::Gt(d, hn::Zero(df)), hn::Lt(d, hn::Set(df, std::numeric_limits<float>::infinity()))),
-      hn::And(hn::Ge(d, hn::Set(df, lo)), hn::Le(d, hn::Set(df, hi))));
+  const auto ok = hn::And(hn::And(hn::Gt(d, hn::Zero(df)),
+                                  hn::Lt(d, hn::Set(df, std::numeric_limits<float>::infinity()))),
+                          hn::And(hn::Ge(d, hn::Set(df, lo)), hn::Le(d, hn::Set(df, hi))));
   if (hn::AllFalse(df, ok)) {
     storeNaN(df, dst + 3 * x);
     return;
@@ -370,7 +370,8 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
         if (bl) bl[x / kDepthBlock] = 1;
       }
     };
-    const uint8_t* next = vec && col_map && y + 1 < r1 ? depth.ptr<uint8_t>(row_map[y + 1]) : nullptr;
+    const uint8_t* next =
+        vec && col_map && y + 1 < r1 ? depth.ptr<uint8_t>(row_map[y + 1]) : nullptr;
     if (!by_blocks) {
       if (next) prefetchRow(next, depth.cols * sizeof(T));
       convert(0, w);
@@ -389,7 +390,8 @@ void convertRows(const cv::Mat& depth, const DepthDecoder& decode, const Intrins
                       sizeof(T) * (std::min(depth.cols, c1 * kChunk) - c0 * kChunk));
         const int vf = std::min(c1, full) - c0;  // full chunks
         int c = c0;
-        if (vf > 0) c += RLD_DISPATCH(chunksWithDepth)(src + c0 * kChunk, vf, chunk_any.data() + c0);
+        if (vf > 0)
+          c += RLD_DISPATCH(chunksWithDepth)(src + c0 * kChunk, vf, chunk_any.data() + c0);
         for (; c < c1; ++c) {
           unsigned any = 0;
           for (int i = c * kChunk; i < std::min(depth.cols, (c + 1) * kChunk); ++i) any |= src[i];

@@ -295,7 +295,8 @@ void halfBinary(const cv::Mat& colour, PixelFormat format, int tau_c, const cv::
         __builtin_prefetch(end - 1);
       }
       const int xg = std::min(x1, gather_end);
-      const int done = x0 + (xg > x0 ? gatherAnyRow(format, src, cm + x0, xg - x0, dst + x0, tau) : 0);
+      const int done =
+          x0 + (xg > x0 ? gatherAnyRow(format, src, cm + x0, xg - x0, dst + x0, tau) : 0);
       convertMappedFrom(format, src, cm, dst, done, x1, tau);
     }
   }

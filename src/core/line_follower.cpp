@@ -97,9 +97,9 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
     follow_steers_.clear();
     double last_f = -1.0, measured_f = -1.0;
     int steering = 0;  // paint-like rows found
-    // the line through the rows found, (su - b sv) / s1 + b v, fitted for fit_rows rows found
+    // the line u = fit_a + fit_b v through the rows found, fitted for fit_rows rows found
     // (refitted only when a row is found: most rows are passed over, or find nothing)
-    double fit_s1 = 0.0, fit_sv = 0.0, fit_su = 0.0, fit_b = 0.0;
+    double fit_a = 0.0, fit_b = 0.0;
     size_t fit_rows = 0;
     for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
       const bool inside = v <= v_near && v >= v_far;
@@ -124,10 +124,10 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
           }
           const double den = s1 * svv - sv * sv;
           fit_b = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
-          fit_s1 = s1, fit_sv = sv, fit_su = su;
+          fit_a = (su - fit_b * sv) / s1;
           fit_rows = out.size();
         }
-        u = (fit_su - fit_b * fit_sv) / fit_s1 + fit_b * v;
+        u = fit_a + fit_b * v;
       }
       double f = 0.0, ppm = 0.0;
       if (!road(u, v, f, ppm)) {
