@@ -177,7 +177,8 @@ class BoundaryCandidateFinder {
   /// @p painted: metres of it the stretches cover; @p rows_cover: metres of it the rows found
   /// cover, each up to the next one but at most its own spacing (kRowCell and one image row);
   /// rows beyond @p max_forward are not counted; with @p lone_points, neither are groups of rows
-  /// (each within half a metre of road of the next) that span no more than a raised pavement
+  /// (each within half a metre of road of the next, or kRowsPerGap image rows where a row spans
+  /// more) that span no more than a raised pavement
   /// marker and one row step (a marker found on one row or two: no paint's stretch, no bridge).
   int paintStretches(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels, double gap,
                      double* extent = nullptr, double* painted = nullptr,

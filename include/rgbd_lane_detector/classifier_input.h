@@ -76,6 +76,7 @@ class ImageRow {
   /// grey() of the @p n columns from @p u0 on, into @p out (the row's pixels converted at once:
   /// a profile reads a few hundred of them per row).
   void greyRun(int u0, int n, uint8_t* out) const {
+    if (n <= 0) return;
     if (grey_) {
       std::memcpy(out, grey_ + u0, static_cast<size_t>(n));
     } else if (cn_ == 1) {

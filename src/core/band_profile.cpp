@@ -60,6 +60,7 @@ void BandProfile::findBands(int W, float base, float low, double reach) {
   const float* P = profile_.data() + W;  // P[k], k in [-W, W]
   // only the runs that reach into (-reach - 1, reach + 1): from the one through its left end on
   // (a band's centre lies within one pixel of its run)
+  reach = std::min(reach, W + 1.0);  // (an infinite reach: the whole profile)
   int k = std::max(-W, static_cast<int>(std::floor(-reach)) - 1);
   if (P[k] >= low)
     while (k - 1 >= -W && P[k - 1] >= low) --k;

@@ -129,8 +129,9 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
         const bool moved =
             classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
         // a trace where depth is missing (near the car) told its kind by colour alone: the line
-        // followed into the depth tells it again (a kerb's bright top is no paint; cut at a
-        // vehicle above, unless the double line's centre moved it)
+        // followed into the depth tells it again (a kerb's bright top is no paint); it is cut at
+        // a vehicle already (cutAtObject() above), again only if the double line's centre moved
+        // it
         if (!std::isfinite(c.evidence.line_height)) {
           classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence, moved);
           matchLengths(c.trace);
@@ -166,7 +167,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
                : std::numeric_limits<double>::quiet_NaN();
   };
   // metres of road one image row spans at pixels[i] (infinite: not on the road)
-  const auto rowAt = [&](size_t i, double fwd) {
+  const auto rowMetres = [&](size_t i, double fwd) {
     Eigen::Vector2d q1;
     return roadCoordinates(f, frame, pixels[i].x, pixels[i].y - 1.0, q1)
                ? std::fabs(q1.x() - fwd)
@@ -177,7 +178,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   const auto together = [&](size_t i) {
     const double a = forwardAt(i), b = forwardAt(i + 1);
     if (!std::isfinite(a) || !std::isfinite(b)) return false;
-    const double ra = rowAt(i, a), rb = rowAt(i + 1, b);
+    const double ra = rowMetres(i, a), rb = rowMetres(i + 1, b);
     const double row_m =
         std::max(std::isfinite(ra) ? ra : 0.0, std::isfinite(rb) ? rb : 0.0);
     const double near_gap = std::max(kLonePoint, kRowsPerGap * row_m);
@@ -195,7 +196,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
       group_end = i + 1;
       while (group_end < pixels.size() && together(group_end - 1)) ++group_end;
       const double a = forwardAt(i), b = forwardAt(group_end - 1);
-      const double step = std::max(kRowCell, std::isfinite(b) ? rowAt(group_end - 1, b) : 0.0);
+      const double step = std::max(kRowCell, std::isfinite(b) ? rowMetres(group_end - 1, b) : 0.0);
       group_point = !(std::fabs(b - a) > kMarkerLength + step);
     }
     if (lone_points && group_point) continue;
@@ -204,7 +205,7 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
     if (fwd > max_forward) continue;
     // far away one image row spans more road than the gap: rows found on neighbouring rows
     // are one stretch (kRowsPerGap rows without paint make a gap there)
-    const double row_m = rowAt(i, fwd);
+    const double row_m = rowMetres(i, fwd);
     if (stretches > 0) cells += std::min(last_cell, std::fabs(fwd - last_f));
     last_cell = kRowCell + (std::isfinite(row_m) ? row_m : 0.0);
     if (stretches == 0 || std::fabs(fwd - last_f) > std::max(gap, kRowsPerGap * row_m)) {

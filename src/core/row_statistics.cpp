@@ -45,7 +45,7 @@ float greyMedian(std::vector<float>& v) {
   }
   const size_t rank = v.size() / 2 + 1;  // nth_element's v.size() / 2, counted from 1
   size_t seen = 0;
-  while ((seen += count[b]) < rank) ++b;
+  while (b < 255 && (seen += count[b]) < rank) ++b;  // (b < 255: counts wrap past 65535 values)
   return static_cast<float>(b);
 }
 
@@ -58,7 +58,7 @@ float greyMedian(const uint8_t* a, int na, const uint8_t* b, int nb) {
   for (int i = 0; i < nb; ++i) ++count[b[i]], lowest = std::min<int>(lowest, b[i]);
   const int rank = n / 2 + 1;  // the sorted values' [n / 2], counted from 1
   int seen = 0, g = lowest;
-  while ((seen += count[g]) < rank) ++g;
+  while (g < 255 && (seen += count[g]) < rank) ++g;  // (g < 255: counts wrap past 65535 values)
   return static_cast<float>(g);
 }
 
