@@ -240,34 +240,33 @@ TEST(BoundaryCandidateFinder, WornDashesJoinedByMarkersArePaint) {
   EXPECT_GE(test::roadForward(c.trace.pixels.back()), 12.0);  // followed across the markers
 }
 
-TEST(BoundaryCandidateFinder, ALoneMarkerJoinsNoWornDashes) {
-  // worn dashes from 4 to 7 m and from 10 to 11 m (paint width on the first 0.4 m, a quarter of
-  // the rows measured, a 5 cm core elsewhere) and one raised marker, 0.1 m long, in the 3 m gap
-  // between them: a point on the line, which joins the dashes into no stretch (one stretch
-  // would cover the whole line, as a rail head does)
-  const BoundaryCandidate c = narrowLine(
-      [](double z) {
-        return (z >= 4.0 && z < 7.0) || (z >= 8.45 && z < 8.55) || (z >= 10.0 && z < 11.0);
-      },
-      11.0, [](double z) { return z < 4.4 ? 0.12 : 0.05; });
-  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
-  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
-  EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
-}
-
-TEST(BoundaryCandidateFinder, AMarkerSeenOnTwoRowsJoinsNoWornDashes) {
-  // worn dashes from 4 to 5.5 m and from 8 to 9 m (paint width on the first 0.4 m, a 5 cm core
-  // elsewhere) and one raised marker, 0.13 m long, in the 2.5 m gap between them, where two
-  // image rows (0.11 m apart at 6.6 m) both find it: still a point on the line, which joins the
-  // dashes into no stretch (one stretch would run on without a break, as a rail head does)
-  const BoundaryCandidate c = narrowLine(
-      [](double z) {
-        return (z >= 4.0 && z < 5.5) || (z >= 6.54 && z < 6.67) || (z >= 8.0 && z < 9.0);
-      },
-      5.5, [](double z) { return z < 4.4 ? 0.12 : 0.05; });
-  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
-  EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
-  EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
+TEST(BoundaryCandidateFinder, ARaisedMarkerJoinsNoWornDashes) {
+  // worn dashes (paint width on their first 0.4 m, a 5 cm core elsewhere) and one raised marker in
+  // the gap between them: a point on the line, which joins the dashes into no stretch (one
+  // stretch would cover the whole line, as a rail head does)
+  struct Case {
+    const char* what;
+    double dash0[2], marker[2], dash1[2], traced;
+  };
+  const Case cases[] = {
+      // a quarter of the rows measured; the marker 0.1 m long, in a 3 m gap, on one image row
+      {"a marker on one row", {4.0, 7.0}, {8.45, 8.55}, {10.0, 11.0}, 11.0},
+      // the marker 0.13 m long in a 2.5 m gap, where two image rows (0.11 m apart at 6.6 m) both
+      // find it
+      {"a marker on two rows", {4.0, 5.5}, {6.54, 6.67}, {8.0, 9.0}, 5.5},
+  };
+  for (const Case& k : cases) {
+    SCOPED_TRACE(k.what);
+    const BoundaryCandidate c = narrowLine(
+        [&k](double z) {
+          return (z >= k.dash0[0] && z < k.dash0[1]) || (z >= k.marker[0] && z < k.marker[1]) ||
+                 (z >= k.dash1[0] && z < k.dash1[1]);
+        },
+        k.traced, [](double z) { return z < 4.4 ? 0.12 : 0.05; });
+    EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+    EXPECT_EQ(c.evidence.kind, BoundaryKind::kPaint) << c.evidence.reason;
+    EXPECT_STREQ(c.evidence.reason, "narrow dashes (worn paint)");
+  }
 }
 
 TEST(BoundaryCandidateFinder, NarrowLineWithoutPaintWidthJoinedByMarkersIsNoBoundary) {
