@@ -123,8 +123,12 @@ class RoadSurface {
   double noiseGrowth() const { return growth_; }
 
  private:
+  /// The tests' look at the grid's samples and their counts (test_road_surface.cpp).
+  friend struct RoadSurfaceProbe;
+
   void collect(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s);
-  /// near_ and far_ from every @p stride-th pixel of every stride-th row (and the corridor).
+  /// near_ and far_ from every @p stride-th pixel of every stride-th row (and the corridor);
+  /// its sampling rules (GridRules, road_surface.cpp) are the counts' below.
   void collectGrid(const cv::Mat& points, const cv::Range& rows, const RoadSurfaceSettings& s,
                    int stride);
   /// The samples within fit_range collectGrid() would find on the grid of @p stride.

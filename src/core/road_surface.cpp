@@ -66,6 +66,80 @@ inline void forEachGridColumn(const uint8_t* blocks, int cols, int stride, F&& f
   }
 }
 
+// collectGrid()'s sampling rules in one place: collectGrid() samples by them, and the counts
+// that choose its grid (nearGridCount(), extendedGridCount()) predict its samples by them.
+class GridRules {
+ public:
+  GridRules(const cv::Mat& points, const RoadSurfaceSettings& s)
+      : fit_range_(static_cast<float>(s.fit_range)),
+        max_range_(static_cast<float>(std::max(s.max_range, s.fit_range))),
+        extended_(2.0f * fit_range_),
+        centre_(points.cols / 2),
+        far_cols_(s.far_columns.empty() ? cv::Range(0, points.cols)
+                                        : cv::Range(std::max(0, s.far_columns.start),
+                                                    std::min(points.cols, s.far_columns.end))),
+        first_block_((far_cols_.start + kDepthBlock - 1) / kDepthBlock * kDepthBlock) {}
+
+  // pixel q is a sample: a number within max_range
+  bool valid(const float* q) const {
+    return (q[2] > 0.0f) && (q[2] <= max_range_) && std::isfinite(q[0]) && std::isfinite(q[1]);
+  }
+  // a sample in the corridor ahead (it weighs more)
+  static bool corridor(const float* q) {
+    return std::fabs(q[0]) < RoadSurface::kCorridorHalfWidth;
+  }
+  // a sample at depth z within fit_range (near_), else beyond it (far_)
+  bool near(float z) const { return z <= fit_range_; }
+  // a sample beyond fit_range at depth z that joins the near ones where they are too few (the
+  // fit over twice the range: depth only farther away, a LiDAR or stereo gap near the car)
+  bool joinsFew(float z) const { return !(z > extended_); }
+  // a row whose corridor is scanned pixel by pixel beyond fit_range: far, or no depth at the
+  // centre (far away the corridor is a few pixels wide)
+  bool farRow(const float* row) const { return !(row[3 * centre_ + 2] <= 0.9f * fit_range_); }
+
+  // f(x) for the columns x of the corridor scan of a row (blocks: its block map, or null):
+  // the far columns, a block without depth passed over from its first column on, the grid's
+  // columns (stride) left out on a grid row (sampled on the grid)
+  template <typename F>
+  void forEachCorridorColumn(const uint8_t* blocks, int stride, bool grid_row, F&& f) const {
+    int grid_x = nextGrid(far_cols_.start, stride);
+    for (int x = far_cols_.start; x < far_cols_.end; ++x) {
+      if (x % kDepthBlock == 0 && !scanned(blocks, x)) {  // a block without depth
+        x += kDepthBlock - 1;
+        grid_x = nextGrid(x + 1, stride);
+        continue;
+      }
+      if (grid_row && x == grid_x) {  // taken on the grid
+        grid_x += stride;
+        continue;
+      }
+      f(x);
+    }
+  }
+  // f(x) for the grid's columns that forEachCorridorColumn() leaves out on a grid row
+  template <typename F>
+  void forEachCorridorGridColumn(const uint8_t* blocks, int stride, F&& f) const {
+    for (int x = nextGrid(far_cols_.start, stride); x < far_cols_.end; x += stride)
+      if (scanned(blocks, x)) f(x);
+  }
+
+ private:
+  // the corridor scan reads column x (not in a block without depth that it passes over)
+  bool scanned(const uint8_t* blocks, int x) const {
+    return !(blocks && x >= first_block_ && !blocks[x / kDepthBlock]);
+  }
+  // the grid's first column at or after x (counted, not found per pixel)
+  static int nextGrid(int x, int stride) {
+    return x > stride / 2 ? stride / 2 + (x - stride / 2 + stride - 1) / stride * stride
+                          : stride / 2;
+  }
+
+  float fit_range_, max_range_, extended_;
+  int centre_;
+  cv::Range far_cols_;
+  int first_block_;  // the corridor scan's first whole depth block
+};
+
 double tukeyWeight(double r, double c) {
   const double u = r / c;
   if (std::fabs(u) >= 1.0) return 0.0;
@@ -122,46 +196,20 @@ void RoadSurface::collect(const cv::Mat& points, const cv::Range& rows,
 int RoadSurface::extendedGridCount(const cv::Mat& points, const cv::Range& rows,
                                    const RoadSurfaceSettings& s, int stride,
                                    int& corridor) const {
-  // collectGrid()'s near_ after its extension: the grid's samples within fit_range or twice it,
-  // and the far corridor's samples of the pixels off the grid within twice fit_range (every
-  // corridor pixel that collectGrid() scans, less the grid's)
-  const float fit_range = static_cast<float>(s.fit_range);
-  const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
-  const float extended = 2.0f * fit_range;
-  const int centre = points.cols / 2;
-  const cv::Range far_cols =
-      s.far_columns.empty()
-          ? cv::Range(0, points.cols)
-          : cv::Range(std::max(0, s.far_columns.start), std::min(points.cols, s.far_columns.end));
-  // collectGrid()'s sample(): a number within max_range
-  auto valid = [max_range](const float* q) {
-    return (q[2] > 0.0f) && (q[2] <= max_range) && std::isfinite(q[0]) && std::isfinite(q[1]);
-  };
-  // a far corridor sample that joins the near ones
-  auto joins = [&](const float* q) {
-    return valid(q) && std::fabs(q[0]) < RoadSurface::kCorridorHalfWidth && q[2] > fit_range &&
-           !(q[2] > extended);
-  };
-  // the far rows, as collectGrid() tells them (far, or no depth at the centre)
-  auto farRow = [&](const float* row) { return !(row[3 * centre + 2] <= 0.9f * fit_range); };
-  // collectGrid()'s corridor scan passes over a block without depth from its first column on
-  const int first_block = (far_cols.start + kDepthBlock - 1) / kDepthBlock * kDepthBlock;
-  auto scanned = [&](const uint8_t* blocks, int x) {
-    return !(blocks && x >= first_block && !blocks[x / kDepthBlock]);
+  // collectGrid()'s near_ after its extension: the grid's samples within fit_range or joining
+  // them, and the far corridor's samples of the pixels off the grid that join them (every pixel
+  // of the corridor scan, less the grid's)
+  const GridRules rules(points, s);
+  auto joins = [&rules](const float* q) {
+    return rules.valid(q) && GridRules::corridor(q) && !rules.near(q[2]) && rules.joinsFew(q[2]);
   };
   if (corridor < 0) {
     corridor = 0;
     for (int y = rows.start; y < rows.end; ++y) {
       const float* row = points.ptr<float>(y);
-      if (!farRow(row)) continue;
-      const uint8_t* blocks = blockRow(points, y);
-      for (int x = far_cols.start; x < far_cols.end; ++x) {
-        if (blocks && x % kDepthBlock == 0 && !blocks[x / kDepthBlock]) {
-          x += kDepthBlock - 1;
-          continue;
-        }
-        corridor += joins(row + 3 * x);
-      }
+      if (!rules.farRow(row)) continue;
+      rules.forEachCorridorColumn(blockRow(points, y), stride, false,
+                                  [&](int x) { corridor += joins(row + 3 * x); });
     }
   }
   int count = corridor;
@@ -170,32 +218,25 @@ int RoadSurface::extendedGridCount(const cv::Mat& points, const cv::Range& rows,
     const uint8_t* blocks = blockRow(points, y);
     forEachGridColumn(blocks, points.cols, stride, [&](int x) {
       const float* q = row + 3 * x;
-      if (valid(q) && (q[2] <= fit_range || !(q[2] > extended))) ++count;
+      if (rules.valid(q) && (rules.near(q[2]) || rules.joinsFew(q[2]))) ++count;
     });
-    if (!farRow(row)) continue;
+    if (!rules.farRow(row)) continue;
     // the grid's pixels of the corridor scan: collectGrid() samples them on the grid
-    const int x_first = stride / 2 + std::max(0, far_cols.start - stride / 2 + stride - 1) /
-                                          stride * stride;
-    for (int x = x_first; x < far_cols.end; x += stride)
-      if (scanned(blocks, x) && joins(row + 3 * x)) --count;
+    rules.forEachCorridorGridColumn(blocks, stride, [&](int x) { count -= joins(row + 3 * x); });
   }
   return count;
 }
 
 int RoadSurface::nearGridCount(const cv::Mat& points, const cv::Range& rows,
                                const RoadSurfaceSettings& s, int stride) const {
-  const float fit_range = static_cast<float>(s.fit_range);
-  const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
+  const GridRules rules(points, s);
   int count = 0;
   for (int y = rows.start + stride / 2; y < rows.end; y += stride) {
     const float* row = points.ptr<float>(y);
     // (blocks without depth give no sample)
     forEachGridColumn(blockRow(points, y), points.cols, stride, [&](int x) {
       const float* q = row + 3 * x;
-      // collectGrid()'s sample() within fit_range
-      if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
-        return;
-      if (q[2] <= fit_range) ++count;
+      count += rules.valid(q) && rules.near(q[2]);
     });
   }
   return count;
@@ -206,22 +247,7 @@ void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
   near_.clear();
   far_.clear();
   near_end_ = 0.0;
-  const float fit_range = static_cast<float>(s.fit_range);
-  const float max_range = static_cast<float>(std::max(s.max_range, s.fit_range));
-  const int centre = points.cols / 2;
-  const cv::Range far_cols =
-      s.far_columns.empty()
-          ? cv::Range(0, points.cols)
-          : cv::Range(std::max(0, s.far_columns.start), std::min(points.cols, s.far_columns.end));
-  // a sample of pixel q: false without depth
-  auto sample = [max_range](const float* q, Sample& smp) {
-    if (!(q[2] > 0.0f) || !(q[2] <= max_range) || !std::isfinite(q[0]) || !std::isfinite(q[1]))
-      return false;
-    const bool corridor = std::fabs(q[0]) < RoadSurface::kCorridorHalfWidth;
-    smp = Sample{Eigen::Vector3f(q[0], q[1], q[2]), corridor ? kCorridorWeight : 1.0f};
-    return true;
-  };
-  Sample smp;
+  const GridRules rules(points, s);
   for (int y = rows.start; y < rows.end; ++y) {
     const float* row = points.ptr<float>(y);
     // every stride-th pixel of every stride-th row on a grid (the fit)
@@ -229,42 +255,28 @@ void RoadSurface::collectGrid(const cv::Mat& points, const cv::Range& rows,
     const uint8_t* blocks = blockRow(points, y);  // (blocks without depth give no sample)
     if (grid_row) {
       forEachGridColumn(blocks, points.cols, stride, [&](int x) {
-        if (sample(row + 3 * x, smp)) (smp.p.z() <= fit_range ? near_ : far_).push_back(smp);
+        const float* q = row + 3 * x;
+        if (!rules.valid(q)) return;
+        const Sample smp{Eigen::Vector3f(q[0], q[1], q[2]),
+                         GridRules::corridor(q) ? kCorridorWeight : 1.0f};
+        (rules.near(q[2]) ? near_ : far_).push_back(smp);
       });
     }
-    // beyond fit_range the corridor's every pixel (the valid range check: far away the corridor
-    // is a few pixels wide)
-    const float zc = row[3 * centre + 2];
-    const bool far_row = !(zc <= 0.9f * fit_range);  // far, or no depth at the centre
-    if (!far_row) continue;
-    // (the grid's next column counted up from each block's first, not found per pixel)
-    auto nextGrid = [stride](int x) {
-      return x > stride / 2 ? stride / 2 + (x - stride / 2 + stride - 1) / stride * stride
-                            : stride / 2;
-    };
-    int grid_x = nextGrid(far_cols.start);
-    for (int x = far_cols.start; x < far_cols.end; ++x) {
-      if (blocks && x % kDepthBlock == 0 && !blocks[x / kDepthBlock]) {  // a block without depth
-        x += kDepthBlock - 1;
-        grid_x = nextGrid(x + 1);
-        continue;
-      }
-      if (grid_row && x == grid_x) {  // taken on the grid
-        grid_x += stride;
-        continue;
-      }
-      if (!sample(row + 3 * x, smp) || smp.weight != kCorridorWeight) continue;
-      if (smp.p.z() > fit_range)
-        far_.push_back(smp);
+    // beyond fit_range the corridor's every pixel (the valid range check)
+    if (!rules.farRow(row)) continue;
+    rules.forEachCorridorColumn(blocks, stride, grid_row, [&](int x) {
+      const float* q = row + 3 * x;
+      if (!rules.valid(q) || !GridRules::corridor(q)) return;
+      if (!rules.near(q[2]))
+        far_.push_back(Sample{Eigen::Vector3f(q[0], q[1], q[2]), kCorridorWeight});
       else  // how far the depth reaches within the fit's range
-        near_end_ = std::max(near_end_, static_cast<double>(smp.p.z()));
-    }
+        near_end_ = std::max(near_end_, static_cast<double>(q[2]));
+    });
   }
   // Depth only farther away (a LiDAR or stereo gap near the car): fit over twice the range.
   if (static_cast<int>(near_.size()) < kMinSamples) {
-    const float extended = 2.0f * fit_range;
     auto mid = std::partition(far_.begin(), far_.end(),
-                              [extended](const Sample& a) { return a.p.z() > extended; });
+                              [&rules](const Sample& a) { return !rules.joinsFew(a.p.z()); });
     near_.insert(near_.end(), mid, far_.end());
     far_.erase(mid, far_.end());
   }

@@ -1,19 +1,50 @@
 // Road surface from depth: a robust plane over the searched rows, with cars, raised sidewalks,
 // missing depth near the car, noise and a crest.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <vector>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
+#include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/road_surface.h"
 #include "simd.h"
 #include "synthetic_scene.h"
 
 namespace rgbd_lane_detector {
+
+// RoadSurface's friend: the grid's samples as collectGrid() takes them, and the counts that
+// choose the grid (they predict its samples without taking them).
+struct RoadSurfaceProbe {
+  struct Counts {
+    int near;      // samples within fit_range
+    int extended;  // and the far ones within twice fit_range (they join the near ones when few)
+  };
+  static Counts collected(RoadSurface& road, const cv::Mat& points, const cv::Range& rows,
+                          const RoadSurfaceSettings& s, int stride) {
+    road.collectGrid(points, rows, s, stride);
+    const float fit_range = static_cast<float>(s.fit_range), extended = 2.0f * fit_range;
+    auto within = [](float range) {
+      return [range](const RoadSurface::Sample& a) { return a.p.z() <= range; };
+    };
+    const int near = static_cast<int>(
+        std::count_if(road.near_.begin(), road.near_.end(), within(fit_range)));
+    const int joined = static_cast<int>(
+        std::count_if(road.far_.begin(), road.far_.end(), within(extended)));
+    return {near, static_cast<int>(road.near_.size()) + joined};
+  }
+  static Counts counted(const RoadSurface& road, const cv::Mat& points, const cv::Range& rows,
+                        const RoadSurfaceSettings& s, int stride, int& corridor) {
+    return {road.nearGridCount(points, rows, s, stride),
+            road.extendedGridCount(points, rows, s, stride, corridor)};
+  }
+};
+
 namespace {
 
 constexpr int kW = 320, kH = 190;
@@ -300,6 +331,64 @@ TEST(RoadSurface, CrestEndsTheValidRange) {
   EXPECT_GE(road.validRange(), 0.9 * s.fit_range);
   EXPECT_NEAR(road.validRange(), leaves, 7.5);
   EXPECT_NEAR(plane.range, road.validRange(), 1e-12);
+}
+
+// The counts that choose the sampling grid are collectGrid()'s samples, on every stride: a flat
+// road, a LiDAR's sparse scan lines with empty depth blocks (in the corridor, and where the far
+// columns start in the middle of one) and no depth nearer than about 20 m (the far samples
+// within 40 m join the near ones), and a road between 15 cm kerb bands at 2.0-2.4 m either side
+// (inside the corridor's 2.5 m) with noisy depth; each with and without the depth block map and
+// the far columns, on a width that leaves a part block.
+TEST(RoadSurface, TheGridCountsAreTheGridsSamples) {
+  Scene flat;
+  Scene lidar;
+  lidar.hole = [](int u, int v) { return v % 3 != 0 || (u / 16) % 2 == 0 || u % 7 == 0; };
+  Scene gap;  // the scan lines only farther than about 20 m ahead
+  gap.hole = [](int u, int v) { return v % 3 != 0 || (u / 16) % 2 == 0 || v > 98; };
+  Scene kerbs;
+  kerbs.noise = 0.01;
+  kerbs.boxes = {{2.0, 2.4, 0.0, 200.0, 0.15}, {-2.4, -2.0, 0.0, 200.0, 0.15}};
+  const std::vector<std::pair<std::string, cv::Mat>> images = {
+      {"flat", flat.render()}, {"lidar", lidar.render()}, {"gap", gap.render()},
+      {"kerbs", kerbs.render()}};
+  RoadSurfaceSettings s = settings();
+  const cv::Range corridor_cols = RoadSurface::corridorColumns(kK.fx, kK.cx, s.fit_range);
+  ASSERT_NE(corridor_cols.start % kDepthBlock, 0);  // the far columns start inside a block
+  int joined = 0;
+  for (const auto& [name, image] : images) {
+    for (int width : {kW, kW - 3}) {
+      const cv::Mat points = image(cv::Rect(0, 0, width, kH)).clone();
+      cv::Mat blocks;
+      depthBlocks(points, cv::Range(0, kH), blocks);
+      const cv::Mat* const maps[] = {nullptr, &blocks};
+      for (const cv::Mat* map : maps) {
+        for (const cv::Range& far : {cv::Range(), corridor_cols}) {
+          s.far_columns = far;
+          RoadSurface road;
+          road.setDepthBlocks(map);
+          int corridor = -1;  // counted on the first stride, for all of them
+          for (int stride = 1; stride <= 20; ++stride) {
+            SCOPED_TRACE(testing::Message() << name << ", width " << width << ", blocks "
+                                            << (map != nullptr) << ", far columns "
+                                            << far.start << "-" << far.end << ", stride "
+                                            << stride);
+            const RoadSurfaceProbe::Counts c =
+                RoadSurfaceProbe::counted(road, points, kRows, s, stride, corridor);
+            const RoadSurfaceProbe::Counts t =
+                RoadSurfaceProbe::collected(road, points, kRows, s, stride);
+            EXPECT_EQ(c.near, t.near);
+            EXPECT_EQ(c.extended, t.extended);
+            EXPECT_GT(t.extended, 0);
+            if (name == "gap") {
+              EXPECT_EQ(t.near, 0);
+            }
+            joined += t.extended > t.near;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(joined, 0);  // far samples joined the near ones
 }
 
 TEST(RoadSurface, NoRoadNoPlane) {
