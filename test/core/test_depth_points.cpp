@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "guarded_mat.h"
 #include "rgbd_lane_detector/depth_points.h"
 #include "simd.h"  // private: targets
 
@@ -25,6 +26,15 @@ bool isDefinition(const cv::Vec3f& q, int u, int v, float d) {
   EXPECT_EQ(q[1], static_cast<float>((v - kK.cy) * (1.0 / kK.fy)) * d) << u << " " << v;
   EXPECT_EQ(q[2], d) << u << " " << v;
   return true;
+}
+
+// 16-bit raw values of 1.3 mm and depth within 0.2-80 m (raw values outside it: no depth).
+DepthDecoder rangedDecoder() {
+  DepthDecoder dec;
+  dec.scale = 0.0013;
+  dec.min_depth = 0.2;
+  dec.max_depth = 80.0;
+  return dec;
 }
 
 TEST(DepthPoints, ExactBackProjection) {
@@ -141,10 +151,7 @@ TEST(DepthPoints, EveryPixelIsTheScalarDefinitionBitForBit) {
     metres.at<float>(rng.uniform(0, 7), rng.uniform(0, 83)) =
         i % 3 == 0 ? nan : (i % 3 == 1 ? std::numeric_limits<float>::infinity() : 0.f);
   }
-  DepthDecoder dec;
-  dec.scale = 0.0013;
-  dec.min_depth = 0.2;
-  dec.max_depth = 80.0;
+  const DepthDecoder dec = rangedDecoder();
   for (const cv::Mat& depth : {mm, metres}) {
     cv::Mat p;
     ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 7), p));
@@ -174,10 +181,7 @@ TEST(DepthPoints, ResampledRowsAndTheDepthBlockMap) {
   for (int x = 0; x < 50; ++x)
     col_map.at<int>(x) = std::min(82, static_cast<int>((x + 0.5) * 83 / 50));
   for (int y = 0; y < 6; ++y) row_map.at<int>(y) = std::min(8, static_cast<int>((y + 0.5) * 9 / 6));
-  DepthDecoder dec;
-  dec.scale = 0.0013;
-  dec.min_depth = 0.2;
-  dec.max_depth = 80.0;
+  const DepthDecoder dec = rangedDecoder();
   for (simd::Target target : simd::availableTargets()) {
     simd::forceTarget(target);
     for (const cv::Mat& depth : {mm, metres}) {
@@ -265,10 +269,7 @@ TEST(DepthPoints, ResampledThroughTheColumnMapWithKeptTables) {
     }
   }
   for (int v = 0; v < 5; ++v) mm.at<uint16_t>(v, cols - 1) = static_cast<uint16_t>(20000 + v);
-  DepthDecoder dec;
-  dec.scale = 0.0013;
-  dec.min_depth = 0.2;
-  dec.max_depth = 80.0;
+  const DepthDecoder dec = rangedDecoder();
   // a wide map first (the tables grow), then one of 330 columns whose last 40 read the last
   // source column
   cv::Mat wide(1, 600, CV_32SC1), col_map(1, 330, CV_32SC1), row_map(1, 5, CV_32SC1);
@@ -301,6 +302,65 @@ TEST(DepthPoints, ResampledThroughTheColumnMapWithKeptTables) {
         }
       EXPECT_GT(with_depth, 100);
       EXPECT_EQ(cv::countNonZero(blocks != own_blocks), 0);
+    }
+  }
+  simd::forceTarget(simd::kBest);
+}
+
+// The source rows end where an inaccessible page begins (a read past a row's end faults, where an
+// ordinary cv::Mat's padding takes it unseen): 16-bit and float depth with runs of no depth,
+// read without a column map and through one whose last columns read the last source column (a
+// 16-bit value is read as the low half of 4 bytes: 2 of them past the row there; 160 columns:
+// on every target, vectors reach the map's last column), the source's last row read by every
+// other output row; on every target, the scalar definition at every pixel.
+TEST(DepthPoints, NoReadPastTheSourceRowsEnd) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::RNG rng(13);
+  const int rows = 3, cols = 203;
+  cv::Mat mm(rows, cols, CV_16UC1), metres(rows, cols, CV_32FC1);
+  rng.fill(mm, cv::RNG::UNIFORM, 1, 65536);
+  rng.fill(metres, cv::RNG::UNIFORM, 0.5, 70.0);
+  for (int v = 0; v < rows; ++v)
+    for (int u = 40 * v; u < 40 * v + 70; ++u) {  // a run of no depth, empty blocks among it
+      mm.at<uint16_t>(v, u) = 0;
+      metres.at<float>(v, u) = nan;
+    }
+  for (int v = 0; v < rows; ++v) {  // depth at the last column
+    mm.at<uint16_t>(v, cols - 1) = static_cast<uint16_t>(20000 + v);
+    metres.at<float>(v, cols - 1) = 26.0f + v;
+  }
+  const test::GuardedMat guarded_mm(mm), guarded_metres(metres);
+  const int w = 160;
+  cv::Mat col_map(1, w, CV_32SC1), row_map = (cv::Mat_<int>(1, 5) << 2, 0, 2, 1, 2);
+  for (int x = 0; x < w; ++x) col_map.at<int>(x) = std::min(cols - 1, x * 3 / 2);
+  for (int x = w - 12; x < w; ++x) col_map.at<int>(x) = cols - 1 - (x % 3 == 1);
+  ASSERT_EQ(col_map.at<int>(w - 1), cols - 1);
+  const DepthDecoder dec = rangedDecoder();
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (const test::GuardedMat* guarded : {&guarded_mm, &guarded_metres}) {
+      const cv::Mat& depth = guarded->mat();
+      ASSERT_EQ(guarded->end(), guarded->guard());
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", type " << depth.type());
+      auto decoded = [&](int v, int u) {
+        return depth.type() == CV_16UC1 ? dec(depth.at<uint16_t>(v, u))
+                                        : dec(depth.at<float>(v, u));
+      };
+      cv::Mat p, blocks;
+      int with_depth = 0;
+      ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, rows), p, cv::Mat(), cv::Mat(),
+                                &blocks));
+      for (int v = 0; v < rows; ++v)
+        for (int u = 0; u < cols; ++u)
+          with_depth += isDefinition(p.at<cv::Vec3f>(v, u), u, v, decoded(v, u));
+      ASSERT_TRUE(depthToPoints(depth, dec, kK, cv::Range(0, 5), p, col_map, row_map, &blocks));
+      for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < w; ++x) {
+          const int u = col_map.at<int>(x), v = row_map.at<int>(y);
+          with_depth += isDefinition(p.at<cv::Vec3f>(y, x), u, v, decoded(v, u));
+        }
+      EXPECT_GT(with_depth, 500);
+      EXPECT_TRUE(isDefinition(p.at<cv::Vec3f>(4, w - 1), cols - 1, 2, decoded(2, cols - 1)));
     }
   }
   simd::forceTarget(simd::kBest);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "guarded_mat.h"
 #include "rgbd_lane_detector/half_binary.h"
 #include "rgbd_lane_detector/pixel_kernels.h"
 #include "simd.h"  // private: targets
@@ -102,6 +103,54 @@ TEST(HalfBinary, ThroughIndexMapsIsTheResampledImage) {
           EXPECT_EQ(cv::countNonZero(out != expected), 0);
         }
       }
+    }
+  }
+  simd::forceTarget(simd::kBest);
+}
+
+// The source rows end where an inaccessible page begins (a read past a row's end faults, where an
+// ordinary cv::Mat's padding takes it unseen): every format, without a column map and through
+// one whose last columns read the last source column (a 3-channel pixel is gathered as 4 bytes:
+// one past the row there), wider than the columns gathered between two prefetches (the second
+// part 48 columns: on every target, vectors reach the map's last column), the source's last row
+// read by every other output row; on every target, the thresholded grey of the source pixel.
+TEST(HalfBinary, NoReadPastTheSourceRowsEnd) {
+  cv::RNG rng(17);
+  const int rows = 3, cols = 451, tau_c = 100;
+  cv::Mat bgr(rows, cols, CV_8UC3);
+  rng.fill(bgr, cv::RNG::UNIFORM, 0, 256);
+  const cv::Mat expected = reference(bgr, tau_c);
+  cv::Mat rgb, bgra, rgba, grey;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
+  cv::cvtColor(bgr, rgba, cv::COLOR_BGR2RGBA);
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  const int w = 304;
+  cv::Mat col_map(1, w, CV_32SC1), row_map = (cv::Mat_<int>(1, 5) << 2, 0, 2, 1, 2);
+  for (int x = 0; x < w; ++x) col_map.at<int>(x) = std::min(cols - 1, x * 3 / 2);
+  for (int x = w - 12; x < w; ++x) col_map.at<int>(x) = cols - 1 - (x % 3 == 1);
+  ASSERT_EQ(col_map.at<int>(w - 1), cols - 1);
+  for (const auto& [img, fmt] : {std::make_pair(bgr, PixelFormat::kBgr8),
+                                 std::make_pair(rgb, PixelFormat::kRgb8),
+                                 std::make_pair(bgra, PixelFormat::kBgra8),
+                                 std::make_pair(rgba, PixelFormat::kRgba8),
+                                 std::make_pair(grey, PixelFormat::kMono8)}) {
+    const test::GuardedMat guarded(img);
+    ASSERT_EQ(guarded.end(), guarded.guard());
+    for (simd::Target target : simd::availableTargets()) {
+      simd::forceTarget(target);
+      SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", format "
+                                      << static_cast<int>(fmt));
+      cv::Mat out, mapped;
+      halfBinary(guarded.mat(), fmt, tau_c, cv::Range(0, rows), out);
+      EXPECT_EQ(cv::countNonZero(out != expected), 0);
+      halfBinary(guarded.mat(), fmt, tau_c, cv::Range(0, 5), mapped, col_map, row_map);
+      ASSERT_EQ(mapped.size(), cv::Size(w, 5));
+      for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < w; ++x)
+          EXPECT_EQ(mapped.at<uint8_t>(y, x),
+                    expected.at<uint8_t>(row_map.at<int>(y), col_map.at<int>(x)))
+              << y << " " << x;
     }
   }
   simd::forceTarget(simd::kBest);
