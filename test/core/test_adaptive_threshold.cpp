@@ -1,4 +1,7 @@
 // Per-row adaptive half-binary threshold.
+#include <numeric>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "rgbd_lane_detector/adaptive_threshold.h"
@@ -15,6 +18,34 @@ TEST(AdaptiveThreshold, RowMedian) {
   // every 4th pixel: 0, 100, 200
   uint8_t strided[12] = {0, 255, 255, 255, 100, 255, 255, 255, 200, 255, 255, 255};
   EXPECT_EQ(rowMedian(strided, 12, hist, 4), 100);
+}
+
+// With a stride, rowMedian() reads four samples at a time, then the rest one by one: strides 2
+// and 3, odd and even counts of samples (1 to 16), read in fours only or with a tail of 1 to 3,
+// the last sample in the row's last column or before it. The samples are 10, 20, ..., 10 n, the
+// median among them (the lower one for an even count) in the last sample; the pixels between
+// the samples and the stride's pixels after the row must not count: one more sample of 0 moves
+// the lower median of an odd count down, one of 255 that of an even count up.
+TEST(AdaptiveThreshold, RowMedianWithAStrideReadsEverySampleToTheRowsEnd) {
+  std::vector<int> hist;
+  for (int stride : {2, 3}) {
+    for (int width = 1; width <= 16 * stride; ++width) {
+      const int n = (width + stride - 1) / stride;  // samples 0, stride, ... below width
+      const int median = 10 * ((n + 1) / 2);
+      for (uint8_t other : {uint8_t(0), uint8_t(255)}) {
+        SCOPED_TRACE(testing::Message() << "stride " << stride << ", width " << width
+                                        << ", others " << int(other));
+        std::vector<uint8_t> row(width + stride, other);
+        for (int k = 0, v = 1; v <= n; ++v)
+          if (10 * v != median) row[stride * k++] = static_cast<uint8_t>(10 * v);
+        row[stride * (n - 1)] = static_cast<uint8_t>(median);
+        EXPECT_EQ(rowMedian(row.data(), width, hist, stride), median);
+        ASSERT_EQ(hist.size(), 256u);
+        EXPECT_EQ(std::accumulate(hist.begin(), hist.end(), 0), n);
+        EXPECT_EQ(hist[other], 0);
+      }
+    }
+  }
 }
 
 TEST(AdaptiveThreshold, EachRowAtItsMedianPlusOffset) {
