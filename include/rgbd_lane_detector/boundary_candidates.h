@@ -76,6 +76,7 @@ class BoundaryCandidateFinder {
     seed_pixels_.reserve(kReservedRows);
     seed_points_.reserve(kReservedRows);
     seed_heights_.reserve(kReservedSeedHeights);
+    prior_road_.reserve(kReservedRows);
   }
 
   /// Replace the parameters (already sanitised).
@@ -106,6 +107,18 @@ class BoundaryCandidateFinder {
    * @param[in] f the frame.
    */
   void classify(const CandidateFrame& f);
+
+  /**
+   * @brief After classify(): a side whose search found no painted boundary while the other side
+   * is on paint where an ego boundary can be is sought again in the band a lane's width
+   * (kLaneWidthMin to lane_width_max) beside that line and parallel to it, where a match above
+   * tau_g (below the trace threshold) is followed and classified like any seed; a painted line
+   * found there, mostly in the band, is added to the side's candidates.
+   * @param[in] f the frame.
+   * @param[in] R_left,R_right the sides' response maps (zeroed around traced lines during the
+   *            search, restored afterwards).
+   */
+  void traceBesidePaint(const CandidateFrame& f, cv::Mat& R_left, cv::Mat& R_right);
 
   /// Candidates of side @p side (count in @p count), best seed first.
   const BoundaryCandidate* candidates(int side, int& count) const {
@@ -154,7 +167,18 @@ class BoundaryCandidateFinder {
   /// by row across the dash gaps (BoundaryClassifier::followLine), when the seed is a measured
   /// road point where an ego-lane boundary can be (boundary_offset_min/max on its side @p left).
   /// False when no line is found.
-  bool followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m);
+  /// With @p prior (the seed lies a lane's width beside a painted line), a seed's match above
+  /// tau_g (not trace_threshold) is followed, also where no depth measures it.
+  bool followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m, bool prior);
+  /// Classify one candidate of @p side (its seed followed when its trace is short; @p prior as
+  /// followFromSeed()'s), and follow it as paint or road edge.
+  void classifyCandidate(const CandidateFrame& f, int side, BoundaryCandidate& c, bool prior);
+  /// The nearest painted candidate of @p side where an ego boundary can be, as the road line
+  /// lateral = @p a + @p b forward (heading within kSideMaxHeading); false: none.
+  bool paintedSideLine(const CandidateFrame& f, int side, double& a, double& b);
+  /// Columns per processing row (band_lo_/band_hi_) between the road lines lateral = @p lo + @p b
+  /// forward and @p hi + @p b forward, kPriorNear to kPriorFar ahead; false: none.
+  bool laneBand(const CandidateFrame& f, const RoadFrame& frame, double lo, double hi, double b);
   /// The measured points (depth, not the plane filled in) around the input pixel @p seed lie on
   /// the road (their median within kerb_height of the plane) and agree with each other (their
   /// median deviation within a quarter of it): a seed whose own point is off the road is a
@@ -209,6 +233,7 @@ class BoundaryCandidateFinder {
   std::vector<cv::Point2f> seed_pixels_;       ///< followFromSeed()'s line
   std::vector<Eigen::Vector3f> seed_points_;
   std::vector<float> seed_heights_;  ///< roadAround()'s heights
+  std::vector<Eigen::Vector2d> prior_road_;  ///< paintedSideLine()'s road points
   std::vector<int> band_lo_, band_hi_;
 };
 

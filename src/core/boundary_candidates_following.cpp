@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "rgbd_lane_detector/geometry.h"
+#include "rgbd_lane_detector/lane_tracker.h"
 #include "row_statistics.h"
 
 namespace rgbd_lane_detector {
@@ -50,6 +51,16 @@ constexpr double kMarkerPaintRows = 0.1;
 constexpr double kEdgeGap = 2.0;     // m: a followed road edge ends where it is not seen this long
 constexpr double kEdgeReach = 0.3;   // m: a traced road edge this near a depth edge is the same
 constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sought this close
+// The lane beside a painted side (traceBesidePaint()): a lane is at least this wide (m; the
+// narrowest urban lanes, 2.5-2.75 m) and at most lane_width_max, and its other boundary runs
+// parallel to the painted one
+constexpr double kLaneWidthMin = 2.5;
+constexpr double kSideMaxHeading = 0.35;  // rad: a lane boundary runs along the road (the fit's)
+// m ahead between which the other side's band is sought (nearer, a car's bonnet or the image's
+// bottom; farther, a lane's width narrows to a few pixels and the road ahead may bend)
+constexpr double kPriorNear = 3.0;
+constexpr double kPriorFar = 30.0;
+constexpr double kPriorShare = 0.6;  // share of the line found there that lies in the band
 
 // Road-plane coordinates (forward, lateral left) of the input pixel (u, v): its ray met with the
 // road plane of @p f in @p frame; false where the ray does not meet the road ahead.
@@ -93,62 +104,210 @@ void BoundaryCandidateFinder::classify(const CandidateFrame& f) {
     return;
   }
   classifierInputOf(f, *f.road, classifier_input_);
-  const ClassifierInput& in = classifier_input_;
   for (int side = 0; side < 2; ++side)
-    for (int k = 0; k < counts_[side]; ++k) {
-      BoundaryCandidate& c = candidates_[side][k];
-      if (static_cast<int>(c.trace.pixels.size()) < params_.min_marker_points)
-        followFromSeed(f, side == 0, c.trace);
-      classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+    for (int k = 0; k < counts_[side]; ++k) classifyCandidate(f, side, candidates_[side][k], false);
+  followPredictedLines(f);
+  addRoadEdgesFromDepth(f);
+}
+
+void BoundaryCandidateFinder::classifyCandidate(const CandidateFrame& f, int side,
+                                                BoundaryCandidate& c, bool prior) {
+  const ClassifierInput& in = classifier_input_;
+  if (static_cast<int>(c.trace.pixels.size()) < params_.min_marker_points)
+    followFromSeed(f, side == 0, c.trace, prior);
+  classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
+  matchLengths(c.trace);
+  // (a narrow line: a rail head, or one that no depth measures; either may be worn paint)
+  if (c.evidence.kind == BoundaryKind::kRoadEdge &&
+      c.evidence.narrow_rows >= c.evidence.rows / 2)
+    dashedNarrowLine(f, side, c);
+  // a painted line: on the paint's centre, row by row, and as far as it goes (where most of
+  // its rows measured paint width, only rows of paint-like width steer it; worn paint's
+  // narrow core is followed on its narrow rows)
+  if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
+    classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
+                           params_.max_depth, BoundaryClassifier::kTraceReach,
+                           2 * c.evidence.paint_rows > c.evidence.rows);
+    if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_)) matchLengths(c.trace);
+    double stroke = 0.0;  // m of road a lone stroke covers
+    if (loneStroke(f, c.trace.pixels, &stroke)) {
+      if (stroke < kMinStroke) {  // (no marking's fragment is a lane line)
+        c.evidence.boundary = false;
+        c.evidence.reason = "short stroke";
+        return;
+      }
+      if (classifier_.arrowHead(in, c.trace.pixels, params_)) {
+        c.evidence.boundary = false;
+        c.evidence.reason = "lane arrow";
+        return;
+      }
+    }
+    const bool moved =
+        classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
+    // a trace where depth is missing (near the car) told its kind by colour alone: the line
+    // followed into the depth tells it again (a kerb's bright top is no paint); it is cut at
+    // a vehicle already (cutAtObject() above), again only if the double line's centre moved
+    // it
+    if (!std::isfinite(c.evidence.line_height)) {
+      classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence, moved);
       matchLengths(c.trace);
-      // (a narrow line: a rail head, or one that no depth measures; either may be worn paint)
       if (c.evidence.kind == BoundaryKind::kRoadEdge &&
           c.evidence.narrow_rows >= c.evidence.rows / 2)
         dashedNarrowLine(f, side, c);
-      // a painted line: on the paint's centre, row by row, and as far as it goes (where most of
-      // its rows measured paint width, only rows of paint-like width steer it; worn paint's
-      // narrow core is followed on its narrow rows)
-      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kPaint) {
-        classifier_.followLine(in, c.trace.pixels, c.trace.points, params_, kFollowGap,
-                               params_.max_depth, BoundaryClassifier::kTraceReach,
-                               2 * c.evidence.paint_rows > c.evidence.rows);
-        if (classifier_.cutAtObject(in, c.trace.pixels, side == 0, params_)) matchLengths(c.trace);
-        double stroke = 0.0;  // m of road a lone stroke covers
-        if (loneStroke(f, c.trace.pixels, &stroke)) {
-          if (stroke < kMinStroke) {  // (no marking's fragment is a lane line)
-            c.evidence.boundary = false;
-            c.evidence.reason = "short stroke";
-            continue;
-          }
-          if (classifier_.arrowHead(in, c.trace.pixels, params_)) {
-            c.evidence.boundary = false;
-            c.evidence.reason = "lane arrow";
-            continue;
-          }
-        }
-        const bool moved =
-            classifier_.centreDoubleLine(in, c.trace.pixels, c.trace.points, params_);
-        // a trace where depth is missing (near the car) told its kind by colour alone: the line
-        // followed into the depth tells it again (a kerb's bright top is no paint); it is cut at
-        // a vehicle already (cutAtObject() above), again only if the double line's centre moved
-        // it
-        if (!std::isfinite(c.evidence.line_height)) {
-          classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence, moved);
-          matchLengths(c.trace);
-          if (c.evidence.kind == BoundaryKind::kRoadEdge &&
-              c.evidence.narrow_rows >= c.evidence.rows / 2)
-            dashedNarrowLine(f, side, c);
-        }
-      }
-      // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
-      // rail: its head is it)
-      if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
-          c.evidence.narrow_rows < c.evidence.rows / 2)
-        classifier_.followEdge(in, c.trace.pixels, c.trace.points, side == 0, params_, kEdgeGap,
-                               params_.max_depth);
     }
-  followPredictedLines(f);
-  addRoadEdgesFromDepth(f);
+  }
+  // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
+  // rail: its head is it)
+  if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
+      c.evidence.narrow_rows < c.evidence.rows / 2)
+    classifier_.followEdge(in, c.trace.pixels, c.trace.points, side == 0, params_, kEdgeGap,
+                           params_.max_depth);
+}
+
+bool BoundaryCandidateFinder::paintedSideLine(const CandidateFrame& f, int side, double& a,
+                                              double& b) {
+  // the nearest painted line of the side where an ego boundary can be, as a straight line on the
+  // road (the lane fit measures it so)
+  const RoadFrame& frame = classifier_input_.frame;
+  bool have = false;
+  for (int k = 0; k < counts_[side]; ++k) {
+    const BoundaryCandidate& c = candidates_[side][k];
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    prior_road_.clear();
+    for (const auto& px : c.trace.pixels) {
+      Eigen::Vector2d q;
+      if (roadCoordinates(f, frame, px.x, px.y, q) && q.x() > 0.0) prior_road_.push_back(q);
+    }
+    if (static_cast<int>(prior_road_.size()) < params_.min_marker_points) continue;
+    double ca = 0.0, cb = 0.0;
+    if (!fitRobustLine(prior_road_, 0.3, ca, cb)) continue;
+    const double beside = side == 0 ? ca : -ca;
+    if (beside < params_.boundary_offset_min || beside > params_.boundary_offset_max ||
+        std::fabs(std::atan(cb)) > kSideMaxHeading)
+      continue;
+    if (have && std::fabs(ca) >= std::fabs(a)) continue;
+    a = ca;
+    b = cb;
+    have = true;
+  }
+  return have;
+}
+
+void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat& R_left,
+                                               cv::Mat& R_right) {
+  if (!params_.classify_boundaries || f.road == nullptr || !f.road->valid) return;
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  for (int side = 0; side < 2; ++side) {
+    // a side whose search found no painted boundary, beside one found on paint
+    bool painted = false;
+    for (int k = 0; k < counts_[side]; ++k)
+      painted |= candidates_[side][k].evidence.boundary &&
+                 candidates_[side][k].evidence.kind == BoundaryKind::kPaint;
+    double a = 0.0, b = 0.0;
+    if (painted || !paintedSideLine(f, 1 - side, a, b)) continue;
+    // where this side's boundary can be: a lane's width from the painted one, parallel to it,
+    // and where an ego boundary can be (lateral at the vehicle, + left)
+    const double sign = side == 0 ? 1.0 : -1.0;
+    const double w_max = params_.lane_width_max > 0.0 ? params_.lane_width_max
+                                                      : std::numeric_limits<double>::infinity();
+    double lo = a + sign * kLaneWidthMin, hi = a + sign * w_max;
+    if (lo > hi) std::swap(lo, hi);
+    const double own_lo = side == 0 ? params_.boundary_offset_min : -params_.boundary_offset_max;
+    const double own_hi = side == 0 ? params_.boundary_offset_max : -params_.boundary_offset_min;
+    lo = std::max(lo, own_lo);
+    hi = std::min(hi, own_hi);
+    if (!(lo < hi)) continue;
+    cv::Mat& R = side == 0 ? R_left : R_right;
+    if (!laneBand(f, in.frame, lo, hi, b)) continue;
+    // the best match there off the lines already traced on this side (put back afterwards)
+    restore_.clear();
+    for (int k = 0; k < counts_[side]; ++k)
+      excludeTrace(f, R, candidates_[side][k].trace, cv::Point(-1, -1));
+    float best = 0.f;
+    cv::Point peak(-1, -1);
+    for (int y = f.roi.y; y < f.roi.y + f.roi.height; ++y) {
+      const int l = band_lo_[y], h = band_hi_[y];
+      if (l > h) continue;
+      const float* r = R.ptr<float>(y);
+      const int step = side == 0 ? -1 : 1;  // of equal ones the innermost
+      for (int x = side == 0 ? h : l, n = h - l + 1; n > 0; x += step, --n)
+        if (r[x] > best) {
+          best = r[x];
+          peak = cv::Point(x, y);
+        }
+    }
+    for (const auto& r : restore_) *r.first = r.second;
+    restore_.clear();
+    // a match the geometric map is trusted on (tau_G), below the trace threshold: the lane
+    // beside the painted side is the prior that the seed search lacks
+    if (!(best > params_.tau_g) || offRoad(f, peak)) continue;
+    BoundaryCandidate& c = next(side);
+    MarkerTrace& m = c.trace;
+    m.found = false;
+    m.kind = BoundaryKind::kPaint;
+    m.confidence = 0.0f;
+    m.pixels.clear();
+    m.scores.clear();
+    m.points.clear();
+    m.angle_valid = false;  // (its line is followed from the seed, or traced on the template's)
+    m.angle = f.template_angle[side];
+    buildTrace(f, R, peak, best, m.angle, m);
+    m.peak_score = best;
+    classifyCandidate(f, side, c, true);
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    // the line found lies in the band (a followed line can run off it)
+    int inside = 0, total = 0;
+    for (const auto& px : m.pixels) {
+      Eigen::Vector2d q;
+      if (!roadCoordinates(f, in.frame, px.x, px.y, q)) continue;
+      ++total;
+      const double off = q.y() - b * q.x();
+      inside += off >= lo && off <= hi;
+    }
+    if (total < params_.min_marker_points || inside < kPriorShare * total) continue;
+    ++counts_[side];
+  }
+}
+
+bool BoundaryCandidateFinder::laneBand(const CandidateFrame& f, const RoadFrame& frame,
+                                       double lo, double hi, double b) {
+  // per processing row, the columns between the road lines lateral = lo + b x and hi + b x
+  // (straight on the road: straight on the image, between kPriorNear and kPriorFar ahead)
+  band_lo_.assign(f.proc_size.height, 1);
+  band_hi_.assign(f.proc_size.height, 0);
+  const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
+  const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
+  cv::Point2d ends[2][2];
+  for (int e = 0; e < 2; ++e) {
+    const double lat = e == 0 ? lo : hi;
+    for (int k = 0; k < 2; ++k) {
+      const double x = k == 0 ? kPriorNear : kPriorFar;
+      const Eigen::Vector3d p = frame.toCamera(x, lat + b * x);
+      if (!(p.z() > 0.1)) return false;
+      const cv::Point2d px = f.K.project(p);
+      ends[e][k] = cv::Point2d((px.x + 0.5) * sx - 0.5, (px.y + 0.5) * sy - 0.5);
+    }
+  }
+  bool any = false;
+  const int y0 = std::max(f.roi.y, static_cast<int>(std::ceil(std::max(ends[0][1].y, ends[1][1].y))));
+  const int y1 = std::min(f.roi.y + f.roi.height - 1,
+                          static_cast<int>(std::floor(std::min(ends[0][0].y, ends[1][0].y))));
+  for (int y = y0; y <= y1; ++y) {
+    double u[2];
+    for (int e = 0; e < 2; ++e) {
+      const cv::Point2d& n = ends[e][0];
+      const cv::Point2d& r = ends[e][1];
+      if (!(std::fabs(n.y - r.y) > 1e-6)) return false;
+      u[e] = n.x + (y - n.y) * (r.x - n.x) / (r.y - n.y);
+    }
+    const int l = std::max(f.roi.x, static_cast<int>(std::floor(std::min(u[0], u[1]))));
+    const int h = std::min(f.roi.x + f.roi.width - 1, static_cast<int>(std::ceil(std::max(u[0], u[1]))));
+    if (l > h) continue;
+    band_lo_[y] = l;
+    band_hi_[y] = h;
+    any = true;
+  }
+  return any;
 }
 
 int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
@@ -299,17 +458,24 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   c.evidence.reason = "narrow dashes (worn paint)";
 }
 
-bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m) {
+bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m,
+                                             bool prior) {
   const ClassifierInput& in = classifier_input_;  // set by classify()
-  if (!(m.peak_score > params_.trace_threshold) || m.seed.x < 0.f) return false;
+  const double seed_score = prior ? params_.tau_g : params_.trace_threshold;
+  if (!(m.peak_score > seed_score) || m.seed.x < 0.f) return false;
   // the seed lies on the road where the depth measures it (a match without depth, on a wall, a
-  // car or a kerb top, or where the road plane only fills missing depth, is followed nowhere)
+  // car or a kerb top, or where the road plane only fills missing depth, is followed nowhere);
+  // with a prior (a lane's width beside a painted line) a seed that no depth measures is
+  // followed, one that the depth puts off the road is not
   const Eigen::Vector3f& sp = m.seed_point;
-  if (!sp.allFinite() || (std::fabs(f.road->normal.cast<float>().dot(sp) +
-                                   static_cast<float>(f.road->distance)) > params_.kerb_height &&
-                          !roadAround(f, m.seed)))
+  if (!sp.allFinite()) {
+    if (!prior) return false;
+  } else if (std::fabs(f.road->normal.cast<float>().dot(sp) +
+                       static_cast<float>(f.road->distance)) > params_.kerb_height &&
+             !roadAround(f, m.seed)) {
     return false;
-  if (f.filled != nullptr) {
+  }
+  if (f.filled != nullptr && !prior) {
     const cv::Point q = processingPixel(f, m.seed);
     const int px = q.x, py = q.y;
     if (px >= 0 && py >= 0 && px < f.filled->cols && py < f.filled->rows && f.filled->at<uint8_t>(py, px) != 0)

@@ -152,6 +152,7 @@ void LaneDetector::traceCandidates(const Frame& frame) {
 void LaneDetector::classifyCandidates() {
   const StageTimer timer(timings_.classify);
   finder_.classify(candidate_frame_);
+  finder_.traceBesidePaint(candidate_frame_, response_left_, response_right_);
 }
 
 void LaneDetector::fitLane(Result& result) {

@@ -2,9 +2,10 @@
 // seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
 // narrow line told as a rail head or as worn dashed paint (also where raised markers join its
 // dashes); a short match followed from its seed when the depth around it is the road (its own
-// point a stray return or not).
+// point a stray return or not); a faint match a lane's width beside a painted line followed.
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -351,6 +352,88 @@ TEST(BoundaryCandidateFinder, SeedOffTheRoadAmidNoisyDepthIsNotFollowed) {
   // point there can be told a stray return, and the seed's is off the road
   const BoundaryCandidate c = seededLine(-0.10, 0.03);
   EXPECT_FALSE(c.evidence.boundary && c.trace.pixels.size() >= 20u) << c.evidence.reason;
+}
+
+// A lane 3.6 m wide on a level road: a solid 15 cm line 1.8 m right of the camera, traced (its
+// response 1.2), and a dashed 15 cm line (3 m dashes every 9 m) 1.8 m left whose response is
+// a short stretch around 8 m ahead at @p left_score (below the trace threshold: fog, a worn line)
+// and where no depth is measured (a stereo pair's smear, a LiDAR's gap). With @p right_line off
+// the right line is neither painted nor matched. The left side's candidates after
+// classification and traceBesidePaint().
+std::vector<BoundaryCandidate> besidePaint(double left_score, bool right_line) {
+  test::CrossSection cs;
+  cs.colour = [right_line](double x, double z) {
+    const bool left = std::fabs(x + 1.8) < 0.075 && std::fmod(z, 9.0) < 3.0;
+    const bool right = right_line && std::fabs(x - 1.8) < 0.075;
+    return left || right ? test::grey(220) : test::grey(80);
+  };
+  test::RenderedRoad road;
+  road.render(cs);
+  for (int v = 0; v < test::kH; ++v)  // no depth left of the camera's column
+    for (int u = 0; u < test::kW / 2; ++u) road.points.at<cv::Vec3f>(v, u) = cv::Vec3f::all(NAN);
+  const auto at = [](double x, double z) {
+    return cv::Point2f(static_cast<float>(test::kK.fx * x / z + test::kK.cx),
+                       static_cast<float>(test::kK.fy * test::kHeight / z + test::kK.cy));
+  };
+  cv::Mat R_left(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  cv::Mat R_right(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  cv::line(R_left, at(-1.8, 7.8), at(-1.8, 8.2), cv::Scalar(left_score), 3);
+  if (right_line) {
+    const std::vector<cv::Point2f> px = test::linePixels(1.8);
+    for (size_t i = 1; i < px.size() && test::roadForward(px[i]) <= 20.0; ++i)
+      cv::line(R_right, px[i - 1], px[i], cv::Scalar(1.2), 5);
+  }
+  const cv::Mat empty;
+  LaneFitter fitter;
+  CandidateFrame f;
+  f.colour = &road.bgr;
+  f.format = PixelFormat::kBgr8;
+  f.grey = &road.grey;
+  f.grey_rows = cv::Range(0, test::kH);
+  f.K = test::kK;
+  f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
+  f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
+                   test::kH - static_cast<int>(0.41 * test::kH));
+  f.roi_rows = cv::Range(f.roi.y, test::kH);
+  f.col_map = f.row_map = &empty;
+  f.points = &road.points;
+  f.road = &road.plane;
+  f.fitter = &fitter;
+  f.template_angle = {3 * M_PI / 4, M_PI / 4};
+  Params p = Params::improved();
+  p.boundary_candidates = 1;
+  BoundaryCandidateFinder finder;
+  finder.setParams(p);
+  finder.clear();
+  finder.traceLines(f, 0, R_left);
+  finder.traceLines(f, 1, R_right);
+  finder.classify(f);
+  const cv::Mat before = R_left.clone();
+  finder.traceBesidePaint(f, R_left, R_right);
+  EXPECT_EQ(cv::countNonZero(R_left != before), 0);  // the map is put back
+  int n = 0;
+  const BoundaryCandidate* c = finder.candidates(0, n);
+  return std::vector<BoundaryCandidate>(c, c + n);
+}
+
+TEST(BoundaryCandidateFinder, FaintLineALaneWidthBesidePaintIsFollowed) {
+  // the right line on paint: the left match at 0.6 (above tau_g 0.5) a lane's width from it is
+  // followed without depth, along the dashed line (x = -1.8 m)
+  const std::vector<BoundaryCandidate> c = besidePaint(0.6, true);
+  int painted = 0;
+  for (const BoundaryCandidate& k : c) {
+    if (!k.evidence.boundary || k.evidence.kind != BoundaryKind::kPaint) continue;
+    ++painted;
+    expectFollowedPaint(k);
+  }
+  EXPECT_EQ(painted, 1);
+}
+
+TEST(BoundaryCandidateFinder, FaintLineWithoutPaintBesideIsNotFollowed) {
+  // no painted line on the right: the same match stays below the trace threshold, unfollowed;
+  // beside paint, a match under tau_g is not followed either
+  for (const auto& c : {besidePaint(0.6, false), besidePaint(0.45, true)})
+    for (const BoundaryCandidate& k : c) EXPECT_FALSE(k.evidence.boundary) << k.evidence.reason;
 }
 
 }  // namespace
