@@ -215,6 +215,9 @@ class BoundaryCandidateFinder {
   void addRoadEdgesFromDepth(const CandidateFrame& f);
   /// The next free candidate of @p side (the array grows on the first frames only).
   BoundaryCandidate& next(int side);
+  /// A trace about to be built from a seed: not found, paint until classified, no pixels yet
+  /// (the buffers keep their capacity).
+  static void startTrace(MarkerTrace& m);
 
   Params params_;
   std::array<std::vector<BoundaryCandidate>, 2> candidates_;

@@ -70,6 +70,15 @@ BoundaryCandidate& BoundaryCandidateFinder::next(int side) {
   return cands[counts_[side]];
 }
 
+void BoundaryCandidateFinder::startTrace(MarkerTrace& m) {
+  m.found = false;
+  m.kind = BoundaryKind::kPaint;
+  m.confidence = 0.0f;
+  m.pixels.clear();
+  m.scores.clear();
+  m.points.clear();
+}
+
 void BoundaryCandidateFinder::traceLines(const CandidateFrame& f, int side, cv::Mat& R) {
   // The side's best seed first (the paper's), then, with boundary_candidates > 1, the next best
   // seeds off the lines already traced: a kerb or a rail may outscore the paint next to it.
@@ -102,12 +111,7 @@ void BoundaryCandidateFinder::traceLines(const CandidateFrame& f, int side, cv::
     if (!traceable && first > 0) break;  // a further map adds traceable lines only
     BoundaryCandidate& c = cands[count];
     MarkerTrace& m = c.trace;
-    m.found = false;
-    m.kind = BoundaryKind::kPaint;
-    m.confidence = 0.0f;
-    m.pixels.clear();
-    m.scores.clear();
-    m.points.clear();
+    startTrace(m);
     const PcaAngle pca = pcaMarkerAngle(R, peak, static_cast<float>(params_.pca_threshold),
                                         params_.template_size, pca_stack_, pca_visited_);
     m.angle_valid = pca.valid;

@@ -243,12 +243,7 @@ void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat&
     if (!(best > params_.tau_g) || offRoad(f, peak)) continue;
     BoundaryCandidate& c = next(side);
     MarkerTrace& m = c.trace;
-    m.found = false;
-    m.kind = BoundaryKind::kPaint;
-    m.confidence = 0.0f;
-    m.pixels.clear();
-    m.scores.clear();
-    m.points.clear();
+    startTrace(m);
     m.angle_valid = false;  // (its line is followed from the seed, or traced on the template's)
     m.angle = f.template_angle[side];
     buildTrace(f, R, peak, best, m.angle, m);
@@ -289,7 +284,8 @@ bool BoundaryCandidateFinder::laneBand(const CandidateFrame& f, const RoadFrame&
     }
   }
   bool any = false;
-  const int y0 = std::max(f.roi.y, static_cast<int>(std::ceil(std::max(ends[0][1].y, ends[1][1].y))));
+  const int y0 =
+      std::max(f.roi.y, static_cast<int>(std::ceil(std::max(ends[0][1].y, ends[1][1].y))));
   const int y1 = std::min(f.roi.y + f.roi.height - 1,
                           static_cast<int>(std::floor(std::min(ends[0][0].y, ends[1][0].y))));
   for (int y = y0; y <= y1; ++y) {
@@ -301,7 +297,8 @@ bool BoundaryCandidateFinder::laneBand(const CandidateFrame& f, const RoadFrame&
       u[e] = n.x + (y - n.y) * (r.x - n.x) / (r.y - n.y);
     }
     const int l = std::max(f.roi.x, static_cast<int>(std::floor(std::min(u[0], u[1]))));
-    const int h = std::min(f.roi.x + f.roi.width - 1, static_cast<int>(std::ceil(std::max(u[0], u[1]))));
+    const int h = std::min(f.roi.x + f.roi.width - 1,
+                           static_cast<int>(std::ceil(std::max(u[0], u[1]))));
     if (l > h) continue;
     band_lo_[y] = l;
     band_hi_[y] = h;

@@ -124,31 +124,41 @@ TEST(BoundaryCandidateFinder, NothingAboveTheTraceThreshold) {
   }
 }
 
-// The left side's first candidate on @p road (its colour, points and plane) traced from the
-// response @p R and classified, one candidate per side, improved mode.
-BoundaryCandidate firstLeftCandidate(const test::RenderedRoad& road, cv::Mat& R) {
-  const cv::Mat empty;
+// A finder on @p road (its colour, points and plane) at the input size, the rows below 41%
+// searched, one candidate per side, improved mode.
+struct RenderedRoadFinder {
+  const cv::Mat no_maps;
   LaneFitter fitter;
   CandidateFrame f;
-  f.colour = &road.bgr;
-  f.format = PixelFormat::kBgr8;
-  f.grey = &road.grey;
-  f.grey_rows = cv::Range(0, test::kH);
-  f.K = test::kK;
-  f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
-  f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
-                   test::kH - static_cast<int>(0.41 * test::kH));
-  f.roi_rows = cv::Range(f.roi.y, test::kH);
-  f.col_map = f.row_map = &empty;
-  f.points = &road.points;
-  f.road = &road.plane;
-  f.fitter = &fitter;
-  f.template_angle = {3 * M_PI / 4, M_PI / 4};
-  Params p = Params::improved();
-  p.boundary_candidates = 1;
   BoundaryCandidateFinder finder;
-  finder.setParams(p);
-  finder.clear();
+
+  explicit RenderedRoadFinder(const test::RenderedRoad& road) {
+    f.colour = &road.bgr;
+    f.format = PixelFormat::kBgr8;
+    f.grey = &road.grey;
+    f.grey_rows = cv::Range(0, test::kH);
+    f.K = test::kK;
+    f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
+    f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
+                     test::kH - static_cast<int>(0.41 * test::kH));
+    f.roi_rows = cv::Range(f.roi.y, test::kH);
+    f.col_map = f.row_map = &no_maps;
+    f.points = &road.points;
+    f.road = &road.plane;
+    f.fitter = &fitter;
+    f.template_angle = {3 * M_PI / 4, M_PI / 4};
+    Params p = Params::improved();
+    p.boundary_candidates = 1;
+    finder.setParams(p);
+    finder.clear();
+  }
+};
+
+// The left side's first candidate on @p road traced from the response @p R and classified.
+BoundaryCandidate firstLeftCandidate(const test::RenderedRoad& road, cv::Mat& R) {
+  RenderedRoadFinder fx(road);
+  const CandidateFrame& f = fx.f;
+  BoundaryCandidateFinder& finder = fx.finder;
   finder.traceLines(f, 0, R);
   finder.classify(f);
   int n = 0;
@@ -383,28 +393,9 @@ std::vector<BoundaryCandidate> besidePaint(double left_score, bool right_line) {
     for (size_t i = 1; i < px.size() && test::roadForward(px[i]) <= 20.0; ++i)
       cv::line(R_right, px[i - 1], px[i], cv::Scalar(1.2), 5);
   }
-  const cv::Mat empty;
-  LaneFitter fitter;
-  CandidateFrame f;
-  f.colour = &road.bgr;
-  f.format = PixelFormat::kBgr8;
-  f.grey = &road.grey;
-  f.grey_rows = cv::Range(0, test::kH);
-  f.K = test::kK;
-  f.input_size = f.proc_size = cv::Size(test::kW, test::kH);
-  f.roi = cv::Rect(0, static_cast<int>(0.41 * test::kH), test::kW,
-                   test::kH - static_cast<int>(0.41 * test::kH));
-  f.roi_rows = cv::Range(f.roi.y, test::kH);
-  f.col_map = f.row_map = &empty;
-  f.points = &road.points;
-  f.road = &road.plane;
-  f.fitter = &fitter;
-  f.template_angle = {3 * M_PI / 4, M_PI / 4};
-  Params p = Params::improved();
-  p.boundary_candidates = 1;
-  BoundaryCandidateFinder finder;
-  finder.setParams(p);
-  finder.clear();
+  RenderedRoadFinder fx(road);
+  const CandidateFrame& f = fx.f;
+  BoundaryCandidateFinder& finder = fx.finder;
   finder.traceLines(f, 0, R_left);
   finder.traceLines(f, 1, R_right);
   finder.classify(f);
