@@ -64,6 +64,44 @@ inline int fillTail(const FillRow& f, int c, int w) {
 
 RLD_KERNELS_BEGIN
 
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
+// Lane j of the three interleaved vectors (x, y, z of N columns) holds column j / 3.
+alignas(64) constexpr int32_t kColumnOfSlot[48] = {
+    0,  0,  0,  1,  1,  1,  2,  2,  2,  3,  3,  3,  4,  4,  4,  5,  5,  5,  6,  6,  6,  7,  7,  7,
+    8,  8,  8,  9,  9,  9,  10, 10, 10, 11, 11, 11, 12, 12, 12, 13, 13, 13, 14, 14, 14, 15, 15, 15};
+
+// The points of the columns in @p fill stored at p (x, y, z interleaved), the others' left as
+// they are: masked stores (native on AVX2 and AVX-512), which need no read of the old points.
+// On a sparse LiDAR most vectors fill only some columns (those without any depth stay empty),
+// and the read of the old points, far from the cache since depthToPoints() wrote them, was most
+// of the fill's time.
+template <class DF>
+void storeFilled(DF df, hn::Mask<DF> fill, hn::Vec<DF> px, hn::Vec<DF> py, hn::Vec<DF> pz,
+                 float* p) {
+  const int N = static_cast<int>(hn::Lanes(df));
+  static_assert(HWY_MAX_BYTES / sizeof(float) <= 16, "kColumnOfSlot covers 16 lanes");
+  HWY_ALIGN float slots[3 * HWY_MAX_BYTES / sizeof(float)];
+  hn::StoreInterleaved3(px, py, pz, df, slots);
+  const auto m = hn::VecFromMask(df, fill);
+  for (int k = 0; k < 3; ++k) {
+    const auto slot_fill =
+        hn::MaskFromVec(hn::TableLookupLanes(m, hn::SetTableIndices(df, kColumnOfSlot + k * N)));
+    hn::BlendedStore(hn::Load(df, slots + k * N), slot_fill, df, p + k * N);
+  }
+}
+#else
+// The points of the columns in @p fill stored at p (x, y, z interleaved), the others' kept:
+// the old points read and blended (no native masked store on this target).
+template <class DF>
+void storeFilled(DF df, hn::Mask<DF> fill, hn::Vec<DF> px, hn::Vec<DF> py, hn::Vec<DF> pz,
+                 float* p) {
+  hn::Vec<DF> ox, oy, oz;
+  hn::LoadInterleaved3(df, p, ox, oy, oz);
+  hn::StoreInterleaved3(hn::IfThenElse(fill, px, ox), hn::IfThenElse(fill, py, oy),
+                        hn::IfThenElse(fill, pz, oz), df, p);
+}
+#endif
+
 // fillTail() on whole float vectors of columns, lane for lane (the ray in two double halves;
 // the points' floats and the mask bytes blended where a lane fills). Returns the columns done;
 // *count += the points.
@@ -102,11 +140,7 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
     if (hn::AllTrue(di, fill)) {  // (most vectors below the depth: nothing of the old to keep)
       hn::StoreInterleaved3(px, py, pz, df, p);
     } else {
-      const auto fill_f = hn::RebindMask(df, fill);
-      hn::Vec<decltype(df)> ox, oy, oz;
-      hn::LoadInterleaved3(df, p, ox, oy, oz);
-      hn::StoreInterleaved3(hn::IfThenElse(fill_f, px, ox), hn::IfThenElse(fill_f, py, oy),
-                            hn::IfThenElse(fill_f, pz, oz), df, p);
+      storeFilled(df, hn::RebindMask(df, fill), px, py, pz, p);
     }
     // (the mask's row is 0 until this row is filled: extendToCamera() clears it)
     hn::StoreU(hn::DemoteTo(d8, hn::IfThenElseZero(fill, full_i)), d8, f.mark + x);
