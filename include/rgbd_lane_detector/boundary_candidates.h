@@ -191,8 +191,9 @@ class BoundaryCandidateFinder {
   bool loneStroke(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels,
                   double* length = nullptr) const;
   /// seed_pixels_ followed row by row (BoundaryClassifier::followLine, paint sought within
-  /// @p reach): true when enough rows were found (they replace seed_pixels_, with seed_points_).
-  bool followed(const ClassifierInput& in, double reach);
+  /// @p reach; @p seed_line: they are the straight line through a seed): true when enough rows
+  /// were found (they replace seed_pixels_, with seed_points_).
+  bool followed(const ClassifierInput& in, double reach, bool seed_line = false);
   /// A followed line (input pixels, near to far) runs ahead on the road: its far end within
   /// kMaxSeedHeading of straight ahead of its near end (not a car's flank, a kerb turning away).
   bool runsAhead(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels) const;

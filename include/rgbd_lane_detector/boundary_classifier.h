@@ -120,11 +120,15 @@ class BoundaryClassifier {
    * @param[in] painted the line is paint (classified so): beyond the trace only its rows of
    *            paint-like width predict the rows ahead (a seam's rim or a noise peak beside it
    *            does not steer it off its paint); otherwise every row found does (a narrow line).
+   * @param[in] seed_line the trace is the straight line through a seed: below it (toward the
+   *            car) it continues until the rows found there form a stretch of paint (rows found
+   *            one at a time, grains or texture beside a worn dash's end, do not turn it).
    * @return rows found.
    */
   int followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                 double max_range, double reach = kTraceReach, bool painted = false);
+                 double max_range, double reach = kTraceReach, bool painted = false,
+                 bool seed_line = false);
 
   /**
    * @brief A double line (two painted lines side by side, 0.1-0.2 m apart) is one boundary at

@@ -34,7 +34,8 @@ class LineFollower {
   /// Paint row by row from the trace (BoundaryClassifier::followLine()).
   int followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                 double max_range, double reach = kTraceReach, bool painted = false);
+                 double max_range, double reach = kTraceReach, bool painted = false,
+                 bool seed_line = false);
 
   /// A road edge row by row from the trace (BoundaryClassifier::followEdge()).
   int followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
@@ -49,11 +50,13 @@ class LineFollower {
   /// The row walk of followLine() and followEdge(): @p find(v, u, ppm, from_trace, column,
   /// steers) seeks the boundary on row v near column u (ppm pixels per metre across the road; u
   /// predicted from the trace, or from the steering rows found); steers: the row found may
-  /// predict the next rows' column (set false for a band that is not paint-like).
+  /// predict the next rows' column (set false for a band that is not paint-like). @p seed_line:
+  /// the trace is the straight line through a seed, which continues below it until the rows
+  /// found there form a stretch of paint.
   template <typename FindInRow>
   int followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                  std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
-                 FindInRow&& find);
+                 bool seed_line, FindInRow&& find);
 
   BandProfile profile_;
   std::vector<cv::Point2f> followed_;       ///< rows found from the trace's nearest row on

@@ -380,11 +380,12 @@ int BoundaryCandidateFinder::paintStretches(const CandidateFrame& f,
   return stretches;
 }
 
-bool BoundaryCandidateFinder::followed(const ClassifierInput& in, double reach) {
+bool BoundaryCandidateFinder::followed(const ClassifierInput& in, double reach,
+                                       bool seed_line) {
   // seed_pixels_ followed row by row; the rows found replace them (with their points) only when
   // there are enough of them
   const int found = classifier_.followLine(in, seed_pixels_, seed_points_, params_, kFollowGap,
-                                           params_.max_depth, reach);
+                                           params_.max_depth, reach, false, seed_line);
   return found >= std::max(params_.min_marker_points, 3) &&
          seed_points_.size() == seed_pixels_.size();
 }
@@ -491,7 +492,7 @@ bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left,
     if (!(p.z() > 0.1)) continue;
     seed_pixels_.emplace_back(f.K.project(p));
   }
-  if (seed_pixels_.size() < 2 || !followed(in, kSeedReach)) return false;
+  if (seed_pixels_.size() < 2 || !followed(in, kSeedReach, true)) return false;
   if (loneStroke(f, seed_pixels_) || !runsAhead(f, seed_pixels_)) return false;
   m.pixels.assign(seed_pixels_.begin(), seed_pixels_.end());
   m.points.assign(seed_points_.begin(), seed_points_.end());

@@ -23,8 +23,10 @@ constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint 
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
-constexpr double kDashLength = 3.0;           // m of unbroken paint width: a dash (3 m at the
-                                              // shortest), which no rail head widens to ...
+// m of unbroken paint width: a dash, which no rail head widens to (the shortest lane-line dash
+// is 1 m, urban; a worn dash keeps its paint width over only part of its length, its rows
+// alternating paint width and a narrower worn core) ...
+constexpr double kDashLength = 1.0;
 constexpr int kDashRows = 8;                  // ... measured on this many rows at least
 constexpr double kArrowReach = 2.5;           // m beyond a stroke's far end where an arrow's head is sought
 constexpr double kArrowBack = 3.0;            // ... and from this far before it
@@ -64,8 +66,9 @@ BoundaryClassifier::BoundaryClassifier() {
 int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                                    std::vector<Eigen::Vector3f>& points, const Params& p,
                                    double max_gap, double max_range, double reach,
-                                   bool painted) {
-  return follower_.followLine(in, pixels, points, p, max_gap, max_range, reach, painted);
+                                   bool painted, bool seed_line) {
+  return follower_.followLine(in, pixels, points, p, max_gap, max_range, reach, painted,
+                              seed_line);
 }
 
 int BoundaryClassifier::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
@@ -127,6 +130,17 @@ bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<
       while (r + 1 <= u0 + W && row.grey(r + 1) >= level) ++r;
       width = r - l + 1;
       bounded = l > u0 - W && r < u0 + W;  // a stop line runs across the whole road
+      // a bright run that the depth measures above the road on most of its measured pixels is
+      // a vehicle's body (a white car's bumper, narrowing to its corner like a head to its tip):
+      // the road beyond the stroke is hidden from there on, and no head is seen
+      int measured = 0, raised = 0;
+      for (int x = l; x <= r; ++x) {
+        const float h = in.heightAt(x, v);
+        if (!std::isfinite(h)) continue;
+        ++measured;
+        raised += h > kObjectHeight;
+      }
+      if (measured >= kMinHeights && 2 * raised > measured) break;
     }
     if (bounded && width > kArrowWidthShare * p.paint_width_max * ppm) {
       ++wide;

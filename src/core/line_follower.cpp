@@ -26,6 +26,16 @@ constexpr double kSteeringWidthShare = 0.35;
 // ... where that width spans this many pixels at least (on coarser rows a band's width in whole
 // pixels does not tell a grain from paint: every row found steers there)
 constexpr double kSteeringResolved = 2.0;
+// Below a seed's line (toward the car), where the pixels resolve the grains of the road (as for
+// kSteeringResolved), the rows found steer the line only once this many of them were found each
+// on the row measured just after another found one (a stretch of paint; rows along paint are
+// found one after the other): rows found one at a time between rows that find nothing are grains
+// of the aggregate, a patch's texture or a raised marker beside a worn dash's end, and a line
+// fitted through two or three of them, over a few tenths of a metre of road, points anywhere
+// (three such rows over half a metre of road turn a line 19 deg off a worn dash, onto a patch
+// 0.8 m beside it); until then the seed's straight line continues. (On coarser pixels no grain
+// stands out, and paint seen through noise, at night, is itself found one row at a time.)
+constexpr int kStretchRows = 2;
 
 }  // namespace
 
@@ -40,7 +50,7 @@ LineFollower::LineFollower() {
 template <typename FindInRow>
 int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                              std::vector<Eigen::Vector3f>& points, double max_gap, double max_range,
-                             FindInRow&& find) {
+                             bool seed_line, FindInRow&& find) {
   if (pixels.size() < 2 || in.plane == nullptr || !in.plane->valid || !in.frame.valid()) return 0;
   // the trace by row, near (bottom) to far (top)
   int v_near = 0, v_far = in.colour->rows;
@@ -101,12 +111,16 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
     // (refitted only when a row is found: most rows are passed over, or find nothing)
     double fit_a = 0.0, fit_b = 0.0;
     size_t fit_rows = 0;
+    // below a seed's line: rows found right after another found one (kStretchRows)
+    const bool hold = seed_line && step > 0;
+    bool last_found = false;
+    int stretch_rows = 0;
     for (int v = v0; v >= 0 && v < in.colour->rows; v += step) {
       const bool inside = v <= v_near && v >= v_far;
       double u;
       if (inside) {
         u = traceColumn(v);
-      } else if (out.size() < 2) {
+      } else if (out.size() < 2 || (hold && stretch_rows < kStretchRows)) {
         u = ta + tb * v;
       } else {  // least-squares line u(v) through the last rows found that steer
         if (fit_rows != out.size()) {
@@ -140,7 +154,10 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
       measured_f = f;
       double centre;
       bool steers = true;
-      if (find(v, u, ppm, inside || out.size() < 2, centre, steers)) {
+      const bool found = find(v, u, ppm, inside || out.size() < 2, centre, steers);
+      stretch_rows += found && last_found;
+      last_found = found;
+      if (found) {
         out.emplace_back(static_cast<float>(centre), static_cast<float>(v));
         follow_f_.push_back(f);
         follow_steers_.push_back(steers);
@@ -167,9 +184,18 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
 
 int LineFollower::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                              std::vector<Eigen::Vector3f>& points, const Params& p, double max_gap,
-                             double max_range, double reach, bool painted) {
+                             double max_range, double reach, bool painted, bool seed_line) {
+  // (a seed's line is held below it where the pixels at its near end resolve grains)
+  if (seed_line && !pixels.empty() && in.plane != nullptr && in.plane->valid) {
+    const auto nearest = std::max_element(
+        pixels.begin(), pixels.end(),
+        [](const cv::Point2f& a, const cv::Point2f& b) { return a.y < b.y; });
+    double f = 0.0, ppm = 0.0;
+    seed_line = in.roadAt(nearest->x, nearest->y, f, ppm) &&
+                kSteeringWidthShare * p.paint_width_min * ppm >= kSteeringResolved;
+  }
   return followRows(
-      in, pixels, points, max_gap, max_range,
+      in, pixels, points, max_gap, max_range, seed_line,
       [&](int v, double u, double ppm, bool from_trace, double& centre, bool& steers) {
         // where the column comes from the trace (@p reach: wider for a predicted
         // line), else from the rows found
@@ -232,7 +258,7 @@ bool LineFollower::centreDoubleLine(const ClassifierInput& in, std::vector<cv::P
 int LineFollower::followEdge(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
                              std::vector<Eigen::Vector3f>& points, bool left, const Params& p,
                              double max_gap, double max_range, double reach) {
-  return followRows(in, pixels, points, max_gap, max_range,
+  return followRows(in, pixels, points, max_gap, max_range, false,
                     [&](int v, double u, double ppm, bool from_trace, double& edge, bool&) {
                       // the rows found predict the edge itself
                       const double inside = from_trace

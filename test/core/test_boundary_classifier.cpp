@@ -100,6 +100,57 @@ TEST(BoundaryClassifier, ThinLineRunningIntoADashIsPaint) {
   EXPECT_GT(f.ev.narrow_rows, f.ev.paint_rows) << "mostly the thin line";
 }
 
+TEST(BoundaryClassifier, WornDashOfOneAndAHalfMetresMakesAThinLinePaint) {
+  // a 4 cm core (a worn dash's, or a rail head's width) from 3 to 10 m, at paint width (15 cm)
+  // from 5 to 6.5 m only: a rail head never widens to paint over a metre or more (the shortest
+  // lane-line dash), a worn dash keeps its paint width over part of its length
+  CrossSection cs;
+  cs.colour = [](double x, double z) {
+    const double half = z >= 5.0 && z <= 6.5 ? 0.075 : 0.02;
+    return std::fabs(x + 1.8) < half ? grey(235) : grey(80);
+  };
+  std::vector<cv::Point2f> px;  // one point per image row, 3 to 10 m ahead
+  for (double v = std::floor(kK.fy * kHeight / 3.0 + kK.cy); v >= kK.fy * kHeight / 10.0 + kK.cy;
+       v -= 1.0) {
+    const double z = kK.fy * kHeight / (v - kK.cy);
+    px.emplace_back(static_cast<float>(kK.fx * -1.8 / z + kK.cx), static_cast<float>(v));
+  }
+  Fixture f;
+  f.classify(cs, px, true);
+  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
+  EXPECT_EQ(f.ev.kind, BoundaryKind::kPaint) << f.ev.reason;
+  EXPECT_GT(f.ev.narrow_rows, 2 * f.ev.paint_rows) << "mostly the thin core";
+}
+
+TEST(BoundaryClassifier, AVehicleBeyondAStrokeIsNoArrowHead) {
+  // a 2.5 m stroke of paint at x = -1.8 (4-6.5 m ahead) and beyond it a bright shape 0.8 m wide
+  // that narrows to a tip (7-8.5 m): on the road, a lane arrow's head; where the depth measures
+  // it 0.7 m above the road, a white vehicle's bumper and its corner, and no head
+  auto half = [](double z) { return z >= 7.0 && z <= 8.5 ? 0.4 * (8.5 - z) / 1.5 : 0.0; };
+  CrossSection cs;
+  cs.colour = [half](double x, double z) {
+    if (z >= 4.0 && z <= 6.5 && std::fabs(x + 1.8) < 0.075) return grey(230);
+    return std::fabs(x + 1.8) < half(z) ? grey(230) : grey(80);
+  };
+  Fixture f;
+  f.render(cs);
+  std::vector<cv::Point2f> px;  // the stroke, one point per image row
+  for (double v = std::floor(kK.fy * kHeight / 4.0 + kK.cy); v >= kK.fy * kHeight / 6.5 + kK.cy;
+       v -= 1.0) {
+    const double z = kK.fy * kHeight / (v - kK.cy);
+    px.emplace_back(static_cast<float>(kK.fx * -1.8 / z + kK.cx), static_cast<float>(v));
+  }
+  const Params p = Params::improved();
+  EXPECT_TRUE(f.classifier.arrowHead(f.in, px, p)) << "on the road: an arrow's head";
+  // the shape's points 0.7 m above the road (camera y down: the road at y = kHeight)
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u) {
+      cv::Vec3f& q = f.points.at<cv::Vec3f>(v, u);
+      if (std::isfinite(q[2]) && std::fabs(q[0] + 1.8) < half(q[2])) q[1] -= 0.7f;
+    }
+  EXPECT_FALSE(f.classifier.arrowHead(f.in, px, p)) << "a vehicle beyond the stroke";
+}
+
 TEST(BoundaryClassifier, ZebraStripeIsNoBoundary) {
   CrossSection cs;
   cs.colour = [](double x, double) { return std::fabs(x + 1.5) < 0.25 ? grey(220) : grey(80); };

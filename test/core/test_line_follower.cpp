@@ -93,6 +93,44 @@ TEST(LineFollower, ASeamsBrightRimDoesNotSteerTheLine) {
   EXPECT_GE(near_dash, 3);  // across the seam to the near dash
 }
 
+TEST(LineFollower, BelowASeedGrainsFoundOneAtATimeDoNotTurnTheLine) {
+  // a worn 15 cm dash at x = -1.7 9.5-12 m ahead, seeded at 10 m (the seed's line: straight
+  // ahead 9-11 m), and a dash 3-5 m ahead on the same line; between them, toward the car, 5 cm
+  // grains on every other image row along a streak leaving the line (0.1 m per m: a patch's
+  // texture beside the dash's worn end). Rows found one at a time between rows that find nothing
+  // do not turn the seed's line: it runs on straight across the gap and onto the near dash
+  // (fitted through the first grains found, the line ran off along the streak).
+  auto streak = [](double z) { return -1.7 + 0.1 * (9.4 - z); };
+  CrossSection cs;
+  cs.colour = [streak](double x, double z) {
+    const bool dash = (z >= 9.5 && z <= 12.0) || (z >= 3.0 && z <= 5.0);
+    if (dash && std::fabs(x + 1.7) < 0.075) return grey(220);
+    const long row = std::lround(kK.fy * kHeight / z + kK.cy);
+    if (z > 6.0 && z < 9.4 && row % 2 == 0 && std::fabs(x - streak(z)) < 0.025) return grey(220);
+    return grey(80);
+  };
+  Road f;
+  f.render(cs);
+  std::vector<cv::Point2f> px = traceAlong(-1.7, 9.0, 11.0);
+  std::vector<Eigen::Vector3f> pts;
+  // (the rendered road's pixels are coarse, 3-4 cm here: grains are told from paint where a
+  // third of paint_width_min spans two pixels)
+  Params p = Params::improved();
+  p.paint_width_min = 0.25;
+  const int rows = f.follower.followLine(f.in, px, pts, p, 13.0, 60.0, 0.3, false,
+                                         true);  // a seed's line
+  ASSERT_GE(rows, 10);
+  int near_dash = 0;
+  for (const auto& c : px) {
+    const double z = roadForward(c);
+    if (z > 5.5) continue;  // (the gap's grains near the line may be found; they do not steer)
+    // on the near dash's centre (within 3 cm)
+    EXPECT_NEAR(roadLateral(c), -1.7, 0.03) << c;
+    near_dash += z <= 5.0;
+  }
+  EXPECT_GE(near_dash, 5);  // across the gap to the near dash
+}
+
 TEST(LineFollower, ADoubleLineIsOneBoundaryAtItsCentre) {
   // two 0.12 m yellow lines 0.13 m apart centred at x = -1.8 (centres at -1.925 and -1.675)
   CrossSection cs;
