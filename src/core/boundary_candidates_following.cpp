@@ -249,7 +249,12 @@ void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat&
     buildTrace(f, R, peak, best, m.angle, m);
     m.peak_score = best;
     classifyCandidate(f, side, c, true);
-    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint) continue;
+    // paint by its width: a line narrower than paint on most rows is paint only by inference
+    // (worn dashes), too little on a match under the trace threshold (a seam's or a flush
+    // concrete strip's rim, broken by shadows, reads so)
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint ||
+        c.evidence.narrow_rows >= c.evidence.rows / 2)
+      continue;
     // the line found lies in the band (a followed line can run off it)
     int inside = 0, total = 0;
     for (const auto& px : m.pixels) {
