@@ -52,6 +52,8 @@ struct BoundaryEvidence {
   float step_height = kNaN;     ///< the surface beyond it above the one on the vehicle's side, in
                                 ///< most rows (m; NaN: no consistent step)
   float margin = 0.0f;          ///< in [0, 1]: how clearly the measurements support the kind
+  bool raised = false;          ///< a height step: the surface beyond the line, or the line
+                                ///< itself, stands a kerb's height above the road beside it
 };
 
 /**

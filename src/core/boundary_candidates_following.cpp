@@ -424,6 +424,9 @@ bool BoundaryCandidateFinder::loneStroke(const CandidateFrame& f,
 
 void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side,
                                                BoundaryCandidate& c) {
+  // paint lies flat on the road: a line that the depth measures as a height step is a kerb, and
+  // its lit lip broken into pieces (shadows, leaves, a worn edge) is no worn paint
+  if (c.evidence.raised) return;
   // a rail head runs on without a break; a line narrower than paint that comes in dashes is worn
   // paint (the bright core of a faded dash measures a few centimetres)
   seed_pixels_.assign(c.trace.pixels.begin(), c.trace.pixels.end());

@@ -351,6 +351,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
     ev.boundary = true;
     ev.kind = BoundaryKind::kRoadEdge;
     ev.reason = "height step";
+    ev.raised = true;
     const float h = std::isfinite(step_h) && step_h >= kerb ? step_h : raise_h;
     ev.margin = std::min(1.0f, h / (2.0f * kerb));
     return;

@@ -1,8 +1,9 @@
 // Candidate boundaries of a frame: lines traced from a response map, best seed first, the next
 // seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
 // narrow line told as a rail head or as worn dashed paint (also where raised markers join its
-// dashes); a short match followed from its seed when the depth around it is the road (its own
-// point a stray return or not); a faint match a lane's width beside a painted line followed.
+// dashes; a kerb's lip in pieces is no paint); a short match followed from its seed when the
+// depth around it is the road (its own point a stray return or not); a faint match a lane's
+// width beside a painted line followed.
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -169,11 +170,14 @@ BoundaryCandidate firstLeftCandidate(const test::RenderedRoad& road, cv::Mat& R)
 // A narrow bright band (5 cm, a rail head's width, or @p width(z) m) 1.8 m left of the camera
 // on a level road, painted where @p painted(z) holds, traced from its response from 4 m to
 // @p traced m ahead and classified: the left side's first candidate. Without @p depth no point
-// is measured (a sparse LiDAR's, or its blind zone).
+// is measured (a sparse LiDAR's, or its blind zone). With @p kerb > 0 the band is the lit lip of
+// a kerb that high: a footpath raised beyond it, the band on its top 5 mm from the edge (its face,
+// at -1.77 m, is asphalt grey).
 BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced,
                              const std::function<double(double)>& width = nullptr,
-                             bool depth = true) {
+                             bool depth = true, double kerb = 0.0) {
   test::CrossSection cs;
+  if (kerb > 0.0) cs.boxes.push_back({-20.0, -1.8 + 0.03, kerb});
   cs.colour = [painted, width](double x, double z) {
     const double half = 0.5 * (width ? width(z) : 0.05);
     return std::fabs(x + 1.8) < half && painted(z) ? test::grey(235) : test::grey(80);
@@ -183,7 +187,7 @@ BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double 
   if (!depth) road.points.setTo(cv::Scalar::all(std::nanf("")));
   // its response: a band along the line's image
   cv::Mat R(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
-  const std::vector<cv::Point2f> px = test::linePixels(-1.8);
+  const std::vector<cv::Point2f> px = test::linePixels(-1.8, kerb);
   for (size_t i = 1; i < px.size() && test::roadForward(px[i]) <= traced; ++i)
     cv::line(R, px[i - 1], px[i], cv::Scalar(1.2), 5);
   return firstLeftCandidate(road, R);
@@ -224,6 +228,21 @@ TEST(BoundaryCandidateFinder, NarrowLineOfWornDashesIsPaint) {
       7.0, nullptr, false);
   EXPECT_TRUE(d.evidence.boundary) << d.evidence.reason;
   EXPECT_STREQ(d.evidence.reason, "narrow dashes (worn paint)");
+}
+
+TEST(BoundaryCandidateFinder, KerbLipInPiecesIsNoWornPaint) {
+  // the same pieces as the worn dashes above, but on the edge of a footpath 10 cm above the road
+  // (a kerb's lip lit between shadows, leaves on it): the depth measures the step, and paint
+  // lies flat on the road; the line stays the kerb it is
+  const BoundaryCandidate c = narrowLine(
+      [](double z) {
+        return (z >= 4.0 && z < 7.0) || (z >= 9.5 && z < 14.0 && std::fmod(z, 1.0) < 0.2);
+      },
+      7.0, nullptr, true, 0.10);
+  EXPECT_TRUE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_EQ(c.evidence.kind, BoundaryKind::kRoadEdge) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "height step");
+  EXPECT_TRUE(c.evidence.raised);
 }
 
 // Worn dashes with raised markers between them: a dash from 4 to 6 m, nothing for 2.5 m, markers
