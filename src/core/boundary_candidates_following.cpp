@@ -30,6 +30,13 @@ constexpr double kDashGap = 2.0;       // m without a narrow band between two da
 constexpr int kMinDashes = 2;          // dashes that tell worn paint from a rail ...
 constexpr double kMaxDashCoverage = 0.6;  // ... where they cover at most this share of the line
 constexpr double kDashRange = 25.0;    // m ahead within which the dashes are counted
+// Worn paint lies on one road surface: the road either side of it is the same asphalt, its
+// brightness the same but for shading, little against the paint's own contrast. A narrow bright
+// line whose two sides differ by more than this share of what it stands above the brighter one
+// is the rim along a change of surface (the seam of a flush concrete strip or a patch: the two
+// surfaces differ about as much as the rim stands out, more so where the camera saturates one),
+// broken like dashes where the seam is filled: no paint (worn dashes measure 0.3 at most)
+constexpr float kMaxSideStep = 0.5f;
 // Raised pavement markers between worn dashes join them into one stretch (kDashGap): a line that
 // measures paint width on at least kWornPaintRows of its rows (no rail head, seam or crack does)
 // is covered where its rows are found, each row standing for at most kRowCell of road more
@@ -449,6 +456,11 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
   // on enough of its rows (no rail head, seam or crack does), the rows found tell the cover
   if (c.evidence.paint_rows >= kWornPaintRows * c.evidence.rows) painted = rows_cover;
   if (dashes < kMinDashes) return;  // unbroken: a rail head
+  if (std::fabs(c.evidence.step_contrast) > kMaxSideStep * c.evidence.ridge_contrast) {
+    c.evidence.boundary = false;
+    c.evidence.reason = "rim of a surface change";
+    return;
+  }
   if (painted > kMaxDashCoverage * extent) {
     // broken by gaps of kDashGap, which no rail head has, but not into dashes (it covers more
     // of the line than dashes do): the bright rim of a seam or a crack, no lane boundary

@@ -1,7 +1,7 @@
 // Candidate boundaries of a frame: lines traced from a response map, best seed first, the next
 // seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
 // narrow line told as a rail head or as worn dashed paint (also where raised markers join its
-// dashes; a kerb's lip in pieces is no paint); a short match followed from its seed when the
+// dashes; a kerb's lip or a seam's rim in pieces is no paint); a short match followed from its seed when the
 // depth around it is the road (its own point a stray return or not); a faint match a lane's
 // width beside a painted line followed.
 #include <cmath>
@@ -172,15 +172,17 @@ BoundaryCandidate firstLeftCandidate(const test::RenderedRoad& road, cv::Mat& R)
 // @p traced m ahead and classified: the left side's first candidate. Without @p depth no point
 // is measured (a sparse LiDAR's, or its blind zone). With @p kerb > 0 the band is the lit lip of
 // a kerb that high: a footpath raised beyond it, the band on its top 5 mm from the edge (its face,
-// at -1.77 m, is asphalt grey).
+// at -1.77 m, is asphalt grey). The surface beyond the band is @p outer grey (the road's 80: the
+// same asphalt).
 BoundaryCandidate narrowLine(const std::function<bool(double)>& painted, double traced,
                              const std::function<double(double)>& width = nullptr,
-                             bool depth = true, double kerb = 0.0) {
+                             bool depth = true, double kerb = 0.0, int outer = 80) {
   test::CrossSection cs;
   if (kerb > 0.0) cs.boxes.push_back({-20.0, -1.8 + 0.03, kerb});
-  cs.colour = [painted, width](double x, double z) {
+  cs.colour = [painted, width, outer](double x, double z) {
     const double half = 0.5 * (width ? width(z) : 0.05);
-    return std::fabs(x + 1.8) < half && painted(z) ? test::grey(235) : test::grey(80);
+    if (std::fabs(x + 1.8) < half && painted(z)) return test::grey(235);
+    return x < -1.8 ? test::grey(outer) : test::grey(80);
   };
   test::RenderedRoad road;
   road.render(cs);
@@ -226,6 +228,23 @@ TEST(BoundaryCandidateFinder, NarrowLineOfWornDashesIsPaint) {
         return (z >= 4.0 && z < 7.0) || (z >= 9.5 && z < 14.0 && std::fmod(z, 1.0) < 0.2);
       },
       7.0, nullptr, false);
+  EXPECT_TRUE(d.evidence.boundary) << d.evidence.reason;
+  EXPECT_STREQ(d.evidence.reason, "narrow dashes (worn paint)");
+}
+
+TEST(BoundaryCandidateFinder, SeamRimInPiecesIsNoWornPaint) {
+  // the same pieces as the worn dashes above, but along the seam of a flush concrete strip
+  // beyond the line (grey 150 against the asphalt's 80: the sides differ by 70 grey levels, the
+  // rim stands 85 above the brighter one); worn paint has the same road either side of it
+  const auto pieces = [](double z) {
+    return (z >= 4.0 && z < 7.0) || (z >= 9.5 && z < 14.0 && std::fmod(z, 1.0) < 0.2);
+  };
+  const BoundaryCandidate c = narrowLine(pieces, 7.0, nullptr, true, 0.0, 150);
+  EXPECT_FALSE(c.evidence.boundary) << c.evidence.reason;
+  EXPECT_STREQ(c.evidence.reason, "rim of a surface change");
+  // the road beyond a little lighter (a sunlit side, grey 95: 15 levels, against the paint's
+  // 140 above it) leaves the worn dashes paint
+  const BoundaryCandidate d = narrowLine(pieces, 7.0, nullptr, true, 0.0, 95);
   EXPECT_TRUE(d.evidence.boundary) << d.evidence.reason;
   EXPECT_STREQ(d.evidence.reason, "narrow dashes (worn paint)");
 }
