@@ -31,6 +31,18 @@ struct Fixture : RenderedRoad {
   std::vector<cv::Point2f> pixels;
 };
 
+// One point per image row of the road line x = @p x (m, + right), from @p z_near to @p z_far m
+// ahead, near to far (as a followed line has).
+std::vector<cv::Point2f> rowPoints(double x, double z_near, double z_far) {
+  std::vector<cv::Point2f> px;
+  const double v_far = kK.fy * kHeight / z_far + kK.cy;
+  for (double v = std::floor(kK.fy * kHeight / z_near + kK.cy); v >= v_far; v -= 1.0) {
+    const double z = kK.fy * kHeight / (v - kK.cy);
+    px.emplace_back(static_cast<float>(kK.fx * x / z + kK.cx), static_cast<float>(v));
+  }
+  return px;
+}
+
 TEST(BoundaryClassifier, PaintIsABrightBandOfPaintWidth) {
   CrossSection cs;
   cs.colour = [](double x, double) { return std::fabs(x + 1.8) < 0.075 ? grey(220) : grey(80); };
@@ -78,48 +90,37 @@ TEST(BoundaryClassifier, NarrowBandThatNoDepthPutsOnTheRoadIsNoBoundary) {
   EXPECT_GE(f.ev.narrow_rows, f.ev.rows / 2);
 }
 
-TEST(BoundaryClassifier, ThinLineRunningIntoADashIsPaint) {
-  // a thin bright line (4 cm: a seam's glint, a dash's worn rim) from 3 to 5 m, then the next
-  // dash of the same line at paint width from 5 to 10 m: a rail head never widens to a dash
+// A thin bright line (4 cm: a rail head's width, a worn dash's core, a seam's glint) 1.8 m left,
+// classified from 3 to 10 m ahead, one point per image row (as a followed line has), at paint
+// width (15 cm) from @p paint_from to @p paint_to m ahead.
+BoundaryEvidence thinLineWithPaint(double paint_from, double paint_to) {
   CrossSection cs;
-  cs.colour = [](double x, double z) {
-    const double half = z < 5.0 ? 0.02 : z < 10.0 ? 0.075 : 0.0;
+  cs.colour = [paint_from, paint_to](double x, double z) {
+    const double half = z >= paint_from && z <= paint_to ? 0.075 : 0.02;
     return std::fabs(x + 1.8) < half ? grey(235) : grey(80);
   };
-  // one point per image row, 3 to 10 m ahead (as a followed line has)
-  std::vector<cv::Point2f> px;
-  for (double v = std::floor(kK.fy * kHeight / 3.0 + kK.cy); v >= kK.fy * kHeight / 10.0 + kK.cy;
-       v -= 1.0) {
-    const double z = kK.fy * kHeight / (v - kK.cy);
-    px.emplace_back(static_cast<float>(kK.fx * -1.8 / z + kK.cx), static_cast<float>(v));
-  }
   Fixture f;
-  f.classify(cs, px, true);
-  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
-  EXPECT_EQ(f.ev.kind, BoundaryKind::kPaint) << f.ev.reason;
-  EXPECT_GT(f.ev.narrow_rows, f.ev.paint_rows) << "mostly the thin line";
+  f.classify(cs, rowPoints(-1.8, 3.0, 10.0), true);
+  return f.ev;
+}
+
+TEST(BoundaryClassifier, ThinLineRunningIntoADashIsPaint) {
+  // the thin line from 3 to 5 m, then the next dash of the same line at paint width from 5 to
+  // 10 m: a rail head never widens to a dash
+  const BoundaryEvidence ev = thinLineWithPaint(5.0, 10.0);
+  EXPECT_TRUE(ev.boundary) << ev.reason;
+  EXPECT_EQ(ev.kind, BoundaryKind::kPaint) << ev.reason;
+  EXPECT_GT(ev.narrow_rows, ev.paint_rows) << "mostly the thin line";
 }
 
 TEST(BoundaryClassifier, WornDashOfOneAndAHalfMetresMakesAThinLinePaint) {
-  // a 4 cm core (a worn dash's, or a rail head's width) from 3 to 10 m, at paint width (15 cm)
-  // from 5 to 6.5 m only: a rail head never widens to paint over a metre or more (the shortest
-  // lane-line dash), a worn dash keeps its paint width over part of its length
-  CrossSection cs;
-  cs.colour = [](double x, double z) {
-    const double half = z >= 5.0 && z <= 6.5 ? 0.075 : 0.02;
-    return std::fabs(x + 1.8) < half ? grey(235) : grey(80);
-  };
-  std::vector<cv::Point2f> px;  // one point per image row, 3 to 10 m ahead
-  for (double v = std::floor(kK.fy * kHeight / 3.0 + kK.cy); v >= kK.fy * kHeight / 10.0 + kK.cy;
-       v -= 1.0) {
-    const double z = kK.fy * kHeight / (v - kK.cy);
-    px.emplace_back(static_cast<float>(kK.fx * -1.8 / z + kK.cx), static_cast<float>(v));
-  }
-  Fixture f;
-  f.classify(cs, px, true);
-  EXPECT_TRUE(f.ev.boundary) << f.ev.reason;
-  EXPECT_EQ(f.ev.kind, BoundaryKind::kPaint) << f.ev.reason;
-  EXPECT_GT(f.ev.narrow_rows, 2 * f.ev.paint_rows) << "mostly the thin core";
+  // the thin core at paint width from 5 to 6.5 m only: a rail head never widens to paint over a
+  // metre or more (the shortest lane-line dash), a worn dash keeps its paint width over part of
+  // its length
+  const BoundaryEvidence ev = thinLineWithPaint(5.0, 6.5);
+  EXPECT_TRUE(ev.boundary) << ev.reason;
+  EXPECT_EQ(ev.kind, BoundaryKind::kPaint) << ev.reason;
+  EXPECT_GT(ev.narrow_rows, 2 * ev.paint_rows) << "mostly the thin core";
 }
 
 TEST(BoundaryClassifier, AVehicleBeyondAStrokeIsNoArrowHead) {
@@ -134,12 +135,7 @@ TEST(BoundaryClassifier, AVehicleBeyondAStrokeIsNoArrowHead) {
   };
   Fixture f;
   f.render(cs);
-  std::vector<cv::Point2f> px;  // the stroke, one point per image row
-  for (double v = std::floor(kK.fy * kHeight / 4.0 + kK.cy); v >= kK.fy * kHeight / 6.5 + kK.cy;
-       v -= 1.0) {
-    const double z = kK.fy * kHeight / (v - kK.cy);
-    px.emplace_back(static_cast<float>(kK.fx * -1.8 / z + kK.cx), static_cast<float>(v));
-  }
+  const std::vector<cv::Point2f> px = rowPoints(-1.8, 4.0, 6.5);
   const Params p = Params::improved();
   EXPECT_TRUE(f.classifier.arrowHead(f.in, px, p)) << "on the road: an arrow's head";
   // the shape's points 0.7 m above the road (camera y down: the road at y = kHeight)
