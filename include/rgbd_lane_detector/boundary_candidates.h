@@ -15,6 +15,7 @@
  */
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <utility>
@@ -77,6 +78,8 @@ class BoundaryCandidateFinder {
     seed_points_.reserve(kReservedRows);
     seed_heights_.reserve(kReservedSeedHeights);
     prior_road_.reserve(kReservedRows);
+    band_lo_.reserve(kReservedRows);
+    band_hi_.reserve(kReservedRows);
   }
 
   /// Replace the parameters (already sanitised).
@@ -111,9 +114,10 @@ class BoundaryCandidateFinder {
   /**
    * @brief After classify(): a side whose search found no painted boundary while the other side
    * is on paint where an ego boundary can be is sought again in the band a lane's width
-   * (kLaneWidthMin to lane_width_max) beside that line and parallel to it, where a match above
-   * tau_g (below the trace threshold) is followed and classified like any seed; a painted line
-   * found there, mostly in the band, is added to the side's candidates.
+   * (kNarrowestLane to lane_width_max) beside that line and parallel to it, where its best match
+   * (the lines already traced on the side left out), above priorSeedScore(), is followed and
+   * classified like any seed; a line found there that is paint by its width (not a narrow line,
+   * paint only as worn dashes) and lies mostly in the band is added to the side's candidates.
    * @param[in] f the frame.
    * @param[in] R_left,R_right the sides' response maps (zeroed around traced lines during the
    *            search, restored afterwards).
@@ -162,13 +166,17 @@ class BoundaryCandidateFinder {
   /// A tracked painted side is also sought where its model predicts it, row by row: the
   /// template's seeds can miss a line whose image angle changes fast (a lane change).
   void followPredictedLines(const CandidateFrame& f);
+  /// The score above which a match a lane's width beside a painted side is followed: tau_g, the
+  /// score the geometric map is trusted on, where that is under the trace threshold.
+  double priorSeedScore() const { return std::min(params_.tau_g, params_.trace_threshold); }
   /// A seed whose trace is too short to tell what it is (a short dash far ahead, a dash whose
   /// matched blob gave no usable angle): the line through it along the road ahead, followed row
   /// by row across the dash gaps (BoundaryClassifier::followLine), when the seed is a measured
   /// road point where an ego-lane boundary can be (boundary_offset_min/max on its side @p left).
   /// False when no line is found.
   /// With @p prior (the seed lies a lane's width beside a painted line), a seed's match above
-  /// tau_g (not trace_threshold) is followed, also where no depth measures it.
+  /// priorSeedScore() (not trace_threshold) is followed, also where no depth measures it or only
+  /// the road plane's fill does.
   bool followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m, bool prior);
   /// Classify one candidate of @p side (its seed followed when its trace is short; @p prior as
   /// followFromSeed()'s), and follow it as paint or road edge.

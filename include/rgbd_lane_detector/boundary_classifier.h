@@ -54,6 +54,10 @@ struct BoundaryEvidence {
   float margin = 0.0f;          ///< in [0, 1]: how clearly the measurements support the kind
   bool raised = false;          ///< a height step: the surface beyond the line, or the line
                                 ///< itself, stands a kerb's height above the road beside it
+
+  /// Narrower than paint on at least half of its measured rows (rounded down): a rail head, a
+  /// worn dash's core, a rim, or a line that no depth measures.
+  bool narrowLine() const { return narrow_rows >= rows / 2; }
 };
 
 /**

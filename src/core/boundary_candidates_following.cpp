@@ -61,7 +61,7 @@ constexpr double kPredictedReach = 0.4;  // m: a predicted line's paint is sough
 // The lane beside a painted side (traceBesidePaint()): a lane is at least this wide (m; the
 // narrowest urban lanes, 2.5-2.75 m) and at most lane_width_max, and its other boundary runs
 // parallel to the painted one
-constexpr double kLaneWidthMin = 2.5;
+constexpr double kNarrowestLane = 2.5;
 constexpr double kSideMaxHeading = 0.35;  // rad: a lane boundary runs along the road (the fit's)
 // m ahead between which the other side's band is sought (nearer, a car's bonnet or the image's
 // bottom; farther, a lane's width narrows to a few pixels and the road ahead may bend)
@@ -125,8 +125,7 @@ void BoundaryCandidateFinder::classifyCandidate(const CandidateFrame& f, int sid
   classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence);
   matchLengths(c.trace);
   // (a narrow line: a rail head, or one that no depth measures; either may be worn paint)
-  if (c.evidence.kind == BoundaryKind::kRoadEdge &&
-      c.evidence.narrow_rows >= c.evidence.rows / 2)
+  if (c.evidence.kind == BoundaryKind::kRoadEdge && c.evidence.narrowLine())
     dashedNarrowLine(f, side, c);
   // a painted line: on the paint's centre, row by row, and as far as it goes (where most of
   // its rows measured paint width, only rows of paint-like width steer it; worn paint's
@@ -158,15 +157,14 @@ void BoundaryCandidateFinder::classifyCandidate(const CandidateFrame& f, int sid
     if (!std::isfinite(c.evidence.line_height)) {
       classifier_.classify(in, c.trace.pixels, side == 0, params_, c.evidence, moved);
       matchLengths(c.trace);
-      if (c.evidence.kind == BoundaryKind::kRoadEdge &&
-          c.evidence.narrow_rows >= c.evidence.rows / 2)
+      if (c.evidence.kind == BoundaryKind::kRoadEdge && c.evidence.narrowLine())
         dashedNarrowLine(f, side, c);
     }
   }
   // a kerb or an unpainted edge: where the road surface ends, as far as it goes (not a
   // rail: its head is it)
   if (c.evidence.boundary && c.evidence.kind == BoundaryKind::kRoadEdge &&
-      c.evidence.narrow_rows < c.evidence.rows / 2)
+      !c.evidence.narrowLine())
     classifier_.followEdge(in, c.trace.pixels, c.trace.points, side == 0, params_, kEdgeGap,
                            params_.max_depth);
 }
@@ -217,7 +215,7 @@ void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat&
     const double sign = side == 0 ? 1.0 : -1.0;
     const double w_max = params_.lane_width_max > 0.0 ? params_.lane_width_max
                                                       : std::numeric_limits<double>::infinity();
-    double lo = a + sign * kLaneWidthMin, hi = a + sign * w_max;
+    double lo = a + sign * kNarrowestLane, hi = a + sign * w_max;
     if (lo > hi) std::swap(lo, hi);
     const double own_lo = side == 0 ? params_.boundary_offset_min : -params_.boundary_offset_max;
     const double own_hi = side == 0 ? params_.boundary_offset_max : -params_.boundary_offset_min;
@@ -245,9 +243,9 @@ void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat&
     }
     for (const auto& r : restore_) *r.first = r.second;
     restore_.clear();
-    // a match the geometric map is trusted on (tau_G), below the trace threshold: the lane
-    // beside the painted side is the prior that the seed search lacks
-    if (!(best > params_.tau_g) || offRoad(f, peak)) continue;
+    // a match the geometric map is trusted on (priorSeedScore()): the lane beside the painted
+    // side is the prior that the seed search lacks
+    if (!(best > priorSeedScore()) || offRoad(f, peak)) continue;
     BoundaryCandidate& c = next(side);
     MarkerTrace& m = c.trace;
     startTrace(m);
@@ -256,11 +254,11 @@ void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat&
     buildTrace(f, R, peak, best, m.angle, m);
     m.peak_score = best;
     classifyCandidate(f, side, c, true);
-    // paint by its width: a line narrower than paint on most rows is paint only by inference
-    // (worn dashes), too little on a match under the trace threshold (a seam's or a flush
-    // concrete strip's rim, broken by shadows, reads so)
+    // paint by its width: a narrow line (BoundaryEvidence::narrowLine()) is paint only by
+    // inference (worn dashes), too little on a match under the trace threshold (a seam's or a
+    // flush concrete strip's rim, broken by shadows, reads so)
     if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint ||
-        c.evidence.narrow_rows >= c.evidence.rows / 2)
+        c.evidence.narrowLine())
       continue;
     // the line found lies in the band (a followed line can run off it)
     int inside = 0, total = 0;
@@ -479,7 +477,7 @@ void BoundaryCandidateFinder::dashedNarrowLine(const CandidateFrame& f, int side
 bool BoundaryCandidateFinder::followFromSeed(const CandidateFrame& f, bool left, MarkerTrace& m,
                                              bool prior) {
   const ClassifierInput& in = classifier_input_;  // set by classify()
-  const double seed_score = prior ? params_.tau_g : params_.trace_threshold;
+  const double seed_score = prior ? priorSeedScore() : params_.trace_threshold;
   if (!(m.peak_score > seed_score) || m.seed.x < 0.f) return false;
   // the seed lies on the road where the depth measures it (a match without depth, on a wall, a
   // car or a kerb top, or where the road plane only fills missing depth, is followed nowhere);

@@ -31,11 +31,16 @@ constexpr double kSteeringResolved = 2.0;
 // on the row measured just after another found one (a stretch of paint; rows along paint are
 // found one after the other): rows found one at a time between rows that find nothing are grains
 // of the aggregate, a patch's texture or a raised marker beside a worn dash's end, and a line
-// fitted through two or three of them, over a few tenths of a metre of road, points anywhere
-// (three such rows over half a metre of road turn a line 19 deg off a worn dash, onto a patch
-// 0.8 m beside it); until then the seed's straight line continues. (On coarser pixels no grain
-// stands out, and paint seen through noise, at night, is itself found one row at a time.)
+// fitted through two or three of them, over a few tenths of a metre of road, points anywhere;
+// until then the seed's straight line continues. (On coarser pixels no grain stands out, and
+// paint seen through noise, at night, is itself found one row at a time.)
 constexpr int kStretchRows = 2;
+
+// The pixels resolve the road's grains at ppm pixels per metre: the steering width
+// (kSteeringWidthShare of paint_width_min) spans kSteeringResolved pixels or more.
+bool resolvesGrains(const Params& p, double ppm) {
+  return kSteeringWidthShare * p.paint_width_min * ppm >= kSteeringResolved;
+}
 
 }  // namespace
 
@@ -191,8 +196,7 @@ int LineFollower::followLine(const ClassifierInput& in, std::vector<cv::Point2f>
         pixels.begin(), pixels.end(),
         [](const cv::Point2f& a, const cv::Point2f& b) { return a.y < b.y; });
     double f = 0.0, ppm = 0.0;
-    seed_line = in.roadAt(nearest->x, nearest->y, f, ppm) &&
-                kSteeringWidthShare * p.paint_width_min * ppm >= kSteeringResolved;
+    seed_line = in.roadAt(nearest->x, nearest->y, f, ppm) && resolvesGrains(p, ppm);
   }
   return followRows(
       in, pixels, points, max_gap, max_range, seed_line,
@@ -205,8 +209,8 @@ int LineFollower::followLine(const ClassifierInput& in, std::vector<cv::Point2f>
         if (!profile_.bandCentre(in, v, u, half, p.paint_width_max * ppm + 2.0, p, centre,
                                  &width))
           return false;
-        const double min_px = kSteeringWidthShare * p.paint_width_min * ppm;
-        steers = !painted || min_px < kSteeringResolved || width >= min_px;
+        steers = !painted || !resolvesGrains(p, ppm) ||
+                 width >= kSteeringWidthShare * p.paint_width_min * ppm;
         return true;
       });
 }

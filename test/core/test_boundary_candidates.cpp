@@ -1,9 +1,9 @@
 // Candidate boundaries of a frame: lines traced from a response map, best seed first, the next
 // seeds off the lines already traced, the map restored; unclassified lines taken as paint; a
 // narrow line told as a rail head or as worn dashed paint (also where raised markers join its
-// dashes; a kerb's lip or a seam's rim in pieces is no paint); a short match followed from its seed when the
-// depth around it is the road (its own point a stray return or not); a faint match a lane's
-// width beside a painted line followed.
+// dashes; a kerb's lip or a seam's rim in pieces is no paint); a short match followed from its
+// seed when the depth around it is the road (its own point a stray return or not); a faint match
+// a lane's width beside a painted line followed.
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -407,8 +407,8 @@ TEST(BoundaryCandidateFinder, SeedOffTheRoadAmidNoisyDepthIsNotFollowed) {
 // a short stretch around 8 m ahead at @p left_score (below the trace threshold: fog, a worn line)
 // and where no depth is measured (a stereo pair's smear, a LiDAR's gap). With @p right_line off
 // the right line is neither painted nor matched. The left side's candidates after
-// classification and traceBesidePaint().
-std::vector<BoundaryCandidate> besidePaint(double left_score, bool right_line) {
+// classification and traceBesidePaint(); @p added: how many traceBesidePaint() added.
+std::vector<BoundaryCandidate> besidePaint(double left_score, bool right_line, int* added) {
   test::CrossSection cs;
   cs.colour = [right_line](double x, double z) {
     const bool left = std::fabs(x + 1.8) < 0.075 && std::fmod(z, 9.0) < 3.0;
@@ -437,18 +437,23 @@ std::vector<BoundaryCandidate> besidePaint(double left_score, bool right_line) {
   finder.traceLines(f, 0, R_left);
   finder.traceLines(f, 1, R_right);
   finder.classify(f);
+  int classified = 0;
+  finder.candidates(0, classified);
   const cv::Mat before = R_left.clone();
   finder.traceBesidePaint(f, R_left, R_right);
   EXPECT_EQ(cv::countNonZero(R_left != before), 0);  // the map is put back
   int n = 0;
   const BoundaryCandidate* c = finder.candidates(0, n);
+  *added = n - classified;
   return std::vector<BoundaryCandidate>(c, c + n);
 }
 
 TEST(BoundaryCandidateFinder, FaintLineALaneWidthBesidePaintIsFollowed) {
   // the right line on paint: the left match at 0.6 (above tau_g 0.5) a lane's width from it is
   // followed without depth, along the dashed line (x = -1.8 m)
-  const std::vector<BoundaryCandidate> c = besidePaint(0.6, true);
+  int added = 0;
+  const std::vector<BoundaryCandidate> c = besidePaint(0.6, true, &added);
+  EXPECT_EQ(added, 1);
   int painted = 0;
   for (const BoundaryCandidate& k : c) {
     if (!k.evidence.boundary || k.evidence.kind != BoundaryKind::kPaint) continue;
@@ -461,8 +466,13 @@ TEST(BoundaryCandidateFinder, FaintLineALaneWidthBesidePaintIsFollowed) {
 TEST(BoundaryCandidateFinder, FaintLineWithoutPaintBesideIsNotFollowed) {
   // no painted line on the right: the same match stays below the trace threshold, unfollowed;
   // beside paint, a match under tau_g is not followed either
-  for (const auto& c : {besidePaint(0.6, false), besidePaint(0.45, true)})
+  for (const bool right_line : {false, true}) {
+    int added = -1;
+    const std::vector<BoundaryCandidate> c =
+        besidePaint(right_line ? 0.45 : 0.6, right_line, &added);
+    EXPECT_EQ(added, 0) << (right_line ? "a match under tau_g" : "no paint beside");
     for (const BoundaryCandidate& k : c) EXPECT_FALSE(k.evidence.boundary) << k.evidence.reason;
+  }
 }
 
 }  // namespace
