@@ -52,6 +52,19 @@ struct CandidateFrame {
   const PlaneEstimate* road = nullptr;  ///< this frame's road plane from depth (may be invalid)
   const LaneFitter* fitter = nullptr;   ///< the tracked lane (predictions, previous plane)
   std::array<double, 2> template_angle{{0.0, 0.0}};  ///< each side's template angle (rad)
+
+  /// The processing image's coordinates of input pixel @p p (pixel centres onto centres).
+  cv::Point2d toProcessing(const cv::Point2d& p) const {
+    const double sx = static_cast<double>(proc_size.width) / input_size.width;
+    const double sy = static_cast<double>(proc_size.height) / input_size.height;
+    return cv::Point2d((p.x + 0.5) * sx - 0.5, (p.y + 0.5) * sy - 0.5);
+  }
+  /// The input image's coordinates of processing pixel @p p (toProcessing()'s inverse).
+  cv::Point2d toInput(const cv::Point2d& p) const {
+    const double sx = static_cast<double>(input_size.width) / proc_size.width;
+    const double sy = static_cast<double>(input_size.height) / proc_size.height;
+    return cv::Point2d((p.x + 0.5) * sx - 0.5, (p.y + 0.5) * sy - 0.5);
+  }
 };
 
 /**

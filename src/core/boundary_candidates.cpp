@@ -159,12 +159,11 @@ void BoundaryCandidateFinder::excludeTrace(const CandidateFrame& f, cv::Mat& R,
                                            const MarkerTrace& trace, const cv::Point& peak) {
   // boxes along the traced line (processing pixels), so that the next seed is another line
   if (peak.x >= 0) excludeBox(f, R, peak);
-  const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
-  const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
-  for (const auto& c : trace.pixels)
+  for (const auto& c : trace.pixels) {
+    const cv::Point2d q = f.toProcessing(c);
     excludeBox(f, R,
-               cv::Point(roundColumn((c.x + 0.5) * sx - 0.5, f.proc_size.width),
-                         static_cast<int>(std::lround((c.y + 0.5) * sy - 0.5))));
+               cv::Point(roundColumn(q.x, f.proc_size.width), static_cast<int>(std::lround(q.y))));
+  }
 }
 
 void BoundaryCandidateFinder::findBestMatch(const CandidateFrame& f, const cv::Mat& R, bool left,
@@ -230,15 +229,12 @@ bool BoundaryCandidateFinder::predictedBand(const CandidateFrame& f, int side,
   // per processing row, the columns within `band` of the predicted marker (lo > hi: none)
   band_lo_.assign(f.proc_size.height, 1);
   band_hi_.assign(f.proc_size.height, 0);
-  const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
-  const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
   bool any = false;
   cv::Point2d prev;
   bool have_prev = false;
   for (const auto& q : samples_) {
     if (!(q.z() > 0.1f)) continue;
-    const cv::Point2d px = f.K.project(q);
-    const cv::Point2d cur((px.x + 0.5) * sx - 0.5, (px.y + 0.5) * sy - 0.5);
+    const cv::Point2d cur = f.toProcessing(f.K.project(q));
     if (have_prev) {
       const int y0 = std::max(area.y, static_cast<int>(std::ceil(std::min(prev.y, cur.y))));
       const int y1 =
@@ -280,10 +276,7 @@ void BoundaryCandidateFinder::buildTrace(const CandidateFrame& f, const cv::Mat&
                                          const cv::Point& peak, float peak_value, double angle,
                                          MarkerTrace& trace) {
   trace.peak_score = peak_value;
-  const double inv_s = static_cast<double>(f.input_size.width) / f.proc_size.width;
-  const double inv_sy = static_cast<double>(f.input_size.height) / f.proc_size.height;
-  trace.seed = cv::Point2f(static_cast<float>((peak.x + 0.5) * inv_s - 0.5),
-                           static_cast<float>((peak.y + 0.5) * inv_sy - 0.5));
+  trace.seed = cv::Point2f(f.toInput(peak));
   trace.angle = angle;
   trace.num_valid_points = 0;
   trace.seed_point =
@@ -300,8 +293,7 @@ void BoundaryCandidateFinder::buildTrace(const CandidateFrame& f, const cv::Mat&
               f.roi, trace_pixels_, trace_scores_);
   for (size_t i = 0; i < trace_pixels_.size(); ++i) {
     const cv::Point2f& c = trace_pixels_[i];
-    trace.pixels.emplace_back(static_cast<float>((c.x + 0.5) * inv_s - 0.5),
-                              static_cast<float>((c.y + 0.5) * inv_sy - 0.5));
+    trace.pixels.emplace_back(f.toInput(c));
     trace.scores.push_back(trace_scores_[i]);
     Eigen::Vector3f pt = pointAt(f, c);
     if (offRoad(f,

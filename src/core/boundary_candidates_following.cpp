@@ -280,8 +280,6 @@ bool BoundaryCandidateFinder::laneBand(const CandidateFrame& f, const RoadFrame&
   // (straight on the road: straight on the image, between kPriorNear and kPriorFar ahead)
   band_lo_.assign(f.proc_size.height, 1);
   band_hi_.assign(f.proc_size.height, 0);
-  const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
-  const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
   cv::Point2d ends[2][2];
   for (int e = 0; e < 2; ++e) {
     const double lat = e == 0 ? lo : hi;
@@ -289,8 +287,7 @@ bool BoundaryCandidateFinder::laneBand(const CandidateFrame& f, const RoadFrame&
       const double x = k == 0 ? kPriorNear : kPriorFar;
       const Eigen::Vector3d p = frame.toCamera(x, lat + b * x);
       if (!(p.z() > 0.1)) return false;
-      const cv::Point2d px = f.K.project(p);
-      ends[e][k] = cv::Point2d((px.x + 0.5) * sx - 0.5, (px.y + 0.5) * sy - 0.5);
+      ends[e][k] = f.toProcessing(f.K.project(p));
     }
   }
   bool any = false;
@@ -570,8 +567,6 @@ void BoundaryCandidateFinder::followPredictedLines(const CandidateFrame& f) {
   if (!params_.track_lanes || !previous.valid) return;
   const ClassifierInput& in = classifier_input_;  // set by classify()
   const RoadFrame frame = RoadFrame::fromPlane(*f.road);
-  const double sx = static_cast<double>(f.proc_size.width) / f.input_size.width;
-  const double sy = static_cast<double>(f.proc_size.height) / f.input_size.height;
   for (int side = 0; side < 2; ++side) {
     if (!f.fitter->tracker().valid(side) || f.fitter->sideKind(side) != BoundaryKind::kPaint)
       continue;
@@ -589,8 +584,7 @@ void BoundaryCandidateFinder::followPredictedLines(const CandidateFrame& f) {
       if (!(q.z() > 0.1f)) continue;
       const cv::Point2f px(f.K.project(q));
       m.pixels.push_back(px);
-      m.points.push_back(pointAt(f, cv::Point2f(static_cast<float>((px.x + 0.5) * sx - 0.5),
-                                                static_cast<float>((px.y + 0.5) * sy - 0.5))));
+      m.points.push_back(pointAt(f, cv::Point2f(f.toProcessing(px))));
       m.scores.push_back(0.f);
     }
     if (m.pixels.size() < 2) continue;
