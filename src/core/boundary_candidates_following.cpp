@@ -91,10 +91,8 @@ void matchLengths(MarkerTrace& m) {
 // The processing pixel of input pixel @p p (pixel centres scaled; columns rounded toward the
 // image centre, as the tracing does).
 cv::Point processingPixel(const CandidateFrame& f, const cv::Point2f& p) {
-  return cv::Point(
-      roundColumn((p.x + 0.5) * f.proc_size.width / f.input_size.width - 0.5, f.proc_size.width),
-      static_cast<int>(
-          std::lround((p.y + 0.5) * f.proc_size.height / f.input_size.height - 0.5)));
+  const cv::Point2d q = f.toProcessing(p);
+  return cv::Point(roundColumn(q.x, f.proc_size.width), static_cast<int>(std::lround(q.y)));
 }
 
 }  // namespace
