@@ -95,6 +95,12 @@ class ImageRow {
   /// Sums of the red, green and blue of the @p n columns from @p u0 on (0-255 each).
   void rgbSums(int u0, int n, int& R, int& G, int& B) const {
     const uint8_t* px = colour_ + static_cast<size_t>(u0) * cn_;
+    if (cn_ == 3 && r_ < 3 && g_ < 3 && b_ < 3) {  // (3 channels: each slot's sum, then named)
+      int s[3] = {0, 0, 0};
+      for (int i = 0; i < n; ++i, px += 3) s[0] += px[0], s[1] += px[1], s[2] += px[2];
+      R = s[r_], G = s[g_], B = s[b_];
+      return;
+    }
     const int cn = cn_, r = r_, g = g_, b = b_;
     int sr = 0, sg = 0, sb = 0;
     for (int i = 0; i < n; ++i, px += cn) sr += px[r], sg += px[g], sb += px[b];

@@ -130,7 +130,14 @@ bool BandProfile::measureRow(const ClassifierInput& in, const cv::Point2f& c, bo
     // the box sums from the running sum of the row's grey (integers: exact in any order)
     prefix_.resize(static_cast<size_t>(n) + 1);
     prefix_[0] = 0;
-    for (int i = 0; i < n; ++i) prefix_[i + 1] = prefix_[i] + grey_row_[i];
+    {
+      // (a running sum in a register: the bytes may alias the vector's ints, which the compiler
+      // would read back from memory on every column)
+      const uint8_t* g = grey_row_.data();
+      int* sums = prefix_.data();
+      int sum = 0;
+      for (int i = 0; i < n; ++i) sums[i + 1] = sum += g[i];
+    }
     const int* S = prefix_.data() - x0;  // S[x]: the grey of the columns x0 .. x - 1
     float* out = profile_.data() + m.W;
     const auto box = [&](int k) {  // the box [u0 + k - h, u0 + k + h], cut at the image border

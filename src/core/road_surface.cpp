@@ -53,16 +53,16 @@ inline void forEachGridColumn(const uint8_t* blocks, int cols, int stride, F&& f
     return;
   }
   while (x < cols) {
-    const int b = x / kDepthBlock;
-    const int end = std::min(cols, (b + 1) * kDepthBlock);
+    int b = x / kDepthBlock;
     if (blocks[b]) {
-      for (; x < end; x += stride) f(x);
-    } else if (stride == 1) {
-      x = end;
-    } else {
-      do x += stride;
-      while (x < end);
+      for (const int end = std::min(cols, (b + 1) * kDepthBlock); x < end; x += stride) f(x);
+      continue;
     }
+    // the blocks without depth from here on passed over at once: x onto the grid's first column
+    // in the next block with depth (or past the row)
+    do ++b;
+    while (b * kDepthBlock < cols && !blocks[b]);
+    x += (b * kDepthBlock - x + stride - 1) / stride * stride;
   }
 }
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "rgbd_lane_detector/depth_points.h"
 #include "rgbd_lane_detector/geometry.h"
@@ -28,6 +29,9 @@ struct FillRow {
   double ry;     ///< this row: the ray's y
   double neg_d;  ///< -plane.distance
   int v;         ///< the row
+  /// every column's ray of this row meets the plane: the highest (nx rx + ny ry) + nz is below
+  /// -1e-9 (rounding is monotonic: no other column's sum is higher)
+  bool every_ray_hits;
   float* row;    ///< the row's points (x, y, z per column)
   uint8_t* mark;  ///< the row of the filled mask
 };
@@ -124,12 +128,15 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
     if (hn::AllFalse(di, open)) continue;
     const auto den0 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x), ny_ry), nz);
     const auto den1 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x + H), ny_ry), nz);
-    // both conditions in float lanes (each double mask as 1 or 0)
-    const auto hit0 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den0, limit), one));
-    const auto hit1 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den1, limit), one));
-    const auto hit = hn::Eq(hn::Combine(df, hit1, hit0), one_f);
-    const auto fill = hn::And(open, hn::RebindMask(di, hit));
-    if (hn::AllFalse(di, fill)) continue;
+    auto fill = open;
+    if (!f.every_ray_hits) {
+      // both conditions in float lanes (each double mask as 1 or 0)
+      const auto hit0 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den0, limit), one));
+      const auto hit1 = hn::DemoteTo(dfh, hn::IfThenElseZero(hn::Lt(den1, limit), one));
+      const auto hit = hn::Eq(hn::Combine(df, hit1, hit0), one_f);
+      fill = hn::And(open, hn::RebindMask(di, hit));
+      if (hn::AllFalse(di, fill)) continue;
+    }
     const auto t0 = hn::Div(neg_d, den0), t1 = hn::Div(neg_d, den1);
     const auto px = hn::Combine(df, hn::DemoteTo(dfh, hn::Mul(hn::LoadU(d, f.rx + x + H), t1)),
                                 hn::DemoteTo(dfh, hn::Mul(hn::LoadU(d, f.rx + x), t0)));
@@ -139,9 +146,11 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
     float* p = f.row + 3 * x;
     if (hn::AllTrue(di, fill)) {  // (most vectors below the depth: nothing of the old to keep)
       hn::StoreInterleaved3(px, py, pz, df, p);
-    } else {
-      storeFilled(df, hn::RebindMask(df, fill), px, py, pz, p);
+      hn::StoreU(hn::Set(d8, uint8_t{255}), d8, f.mark + x);  // (every lane filled)
+      filled += N;
+      continue;
     }
+    storeFilled(df, hn::RebindMask(df, fill), px, py, pz, p);
     // (the mask's row is 0 until this row is filled: extendToCamera() clears it)
     hn::StoreU(hn::DemoteTo(d8, hn::IfThenElseZero(fill, full_i)), d8, f.mark + x);
     filled += static_cast<int>(hn::CountTrue(di, fill));
@@ -232,9 +241,13 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
   fill_rx_.resize(2 * w);
   double* rx = fill_rx_.data();
   double* nx_rx = rx + w;
+  double highest_nx_rx = -std::numeric_limits<double>::infinity();
   for (int x = 0; x < w; ++x) {
     rx[x] = K.ray(cm ? cm[x] : x, 0.0).x();
     nx_rx[x] = nx * rx[x];
+    // (a column whose product is no number never meets the plane: no row has every ray hit)
+    highest_nx_rx = std::isfinite(nx_rx[x]) ? std::max(highest_nx_rx, nx_rx[x])
+                                            : std::numeric_limits<double>::infinity();
   }
   FillRow f;
   f.from = fill_from_.data();
@@ -246,6 +259,7 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
   for (int v = first; v < r1; ++v) {
     f.ry = K.ray(0.0, rm ? rm[v] : v).y();
     f.ny_ry = ny * f.ry;
+    f.every_ray_hits = (highest_nx_rx + f.ny_ry) + nz * 1.0 < -1e-9;
     f.v = v;
     f.row = points.ptr<float>(v);
     f.mark = filled.ptr<uint8_t>(v);

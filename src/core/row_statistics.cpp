@@ -9,6 +9,32 @@
 namespace rgbd_lane_detector {
 namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// Counts of grey values (0-255) in 256 bins and in 16 coarse bins of 16 grey levels: the value of
+// a rank is found in the coarse bins first, then in the 16 of its bin (at most 32 bins looked at,
+// not the up to 255 of a walk up from the lowest value: a row's grey spreads over a hundred
+// levels, its dark pixels far below its median).
+class GreyCounts {
+ public:
+  void add(uint8_t g) {
+    ++fine_[g];
+    ++coarse_[g >> 4];
+  }
+  // The @p rank-th lowest value counted (from 1; at most the values counted).
+  int valueOfRank(size_t rank) const {
+    size_t seen = 0;
+    int c = 0;
+    while (c < 15 && seen + coarse_[c] < rank) seen += coarse_[c++];
+    int g = 16 * c;
+    while (g < 255 && (seen += fine_[g]) < rank) ++g;
+    return g;
+  }
+
+ private:
+  std::array<uint16_t, 256> fine_{};  // (a row's values: far fewer than 65536)
+  std::array<uint32_t, 16> coarse_{};
+};
+
 }  // namespace
 
 float median(std::vector<float>& v) {
@@ -36,30 +62,18 @@ float median(std::vector<float>& v) {
 
 float greyMedian(std::vector<float>& v) {
   if (v.size() <= 16) return median(v);
-  std::array<uint16_t, 256> count{};
-  int b = 255;  // counted from the lowest value on (a road's grey is far above 0)
-  for (float g : v) {
-    const uint8_t k = static_cast<uint8_t>(g);
-    ++count[k];
-    b = std::min<int>(b, k);
-  }
-  const size_t rank = v.size() / 2 + 1;  // nth_element's v.size() / 2, counted from 1
-  size_t seen = 0;
-  while (b < 255 && (seen += count[b]) < rank) ++b;  // (b < 255: counts wrap past 65535 values)
-  return static_cast<float>(b);
+  GreyCounts counts;
+  for (float g : v) counts.add(static_cast<uint8_t>(g));
+  return static_cast<float>(counts.valueOfRank(v.size() / 2 + 1));  // nth_element's v.size() / 2
 }
 
 float greyMedian(const uint8_t* a, int na, const uint8_t* b, int nb) {
   const int n = std::max(na, 0) + std::max(nb, 0);
   if (n == 0) return kNaN;
-  std::array<uint16_t, 256> count{};
-  int lowest = 255;
-  for (int i = 0; i < na; ++i) ++count[a[i]], lowest = std::min<int>(lowest, a[i]);
-  for (int i = 0; i < nb; ++i) ++count[b[i]], lowest = std::min<int>(lowest, b[i]);
-  const int rank = n / 2 + 1;  // the sorted values' [n / 2], counted from 1
-  int seen = 0, g = lowest;
-  while (g < 255 && (seen += count[g]) < rank) ++g;  // (g < 255: counts wrap past 65535 values)
-  return static_cast<float>(g);
+  GreyCounts counts;
+  for (int i = 0; i < na; ++i) counts.add(a[i]);
+  for (int i = 0; i < nb; ++i) counts.add(b[i]);
+  return static_cast<float>(counts.valueOfRank(n / 2 + 1));  // the sorted values' [n / 2]
 }
 
 bool stepInMostRows(std::vector<float>& steps, float least, int min_rows, double share,

@@ -57,6 +57,28 @@ TEST(RowStatistics, GreyMedianIsTheMedianOfGreyValues) {
   EXPECT_EQ(greyMedian(flat), 80.f);
 }
 
+// Grey values spread over the whole range (a row's dark and bright pixels): the median found in
+// its bin of 16 grey levels, at both ends of a bin and of the range, is nth_element's element.
+TEST(RowStatistics, GreyMedianAtTheEndsOfItsCountingBins) {
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<int> grey(0, 255);
+  for (int middle : {0, 15, 16, 17, 31, 32, 127, 128, 239, 240, 254, 255}) {
+    for (int n : {17, 18, 33, 64, 65, 96, 121, 321}) {
+      // about half the values below the middle one, the rest above (or equal)
+      std::vector<float> v(n);
+      for (int i = 0; i < n; ++i) {
+        const int g = grey(rng);
+        v[i] = static_cast<float>(i < n / 2 ? std::min(g, middle) : std::max(g, middle));
+      }
+      std::vector<uint8_t> bytes(v.begin(), v.end());
+      const float expected = nthElement(v);
+      EXPECT_EQ(greyMedian(bytes.data(), n / 3, bytes.data() + n / 3, n - n / 3), expected)
+          << middle << " " << n;
+      EXPECT_EQ(greyMedian(v), expected) << middle << " " << n;
+    }
+  }
+}
+
 // The median of two runs of grey bytes (a profile's two sides, read in place) is greyMedian() of
 // the same values as floats, on both of its paths (up to 16 values and counted), with ties.
 TEST(RowStatistics, GreyMedianOfTwoByteRunsIsGreyMedianOfTheirValues) {
