@@ -166,6 +166,8 @@ class RoadSurface {
   const cv::Mat* blocks_ = nullptr;  ///< setDepthBlocks()
   std::vector<int> fill_open_;  ///< extendToCamera(): per depth block, its columns without depth so far
   std::vector<double> fill_rx_; ///< extendToCamera(): per column, the x of its rays and nx x
+  /// extendToCamera(): per row filled, the first column that fills and one past the last
+  std::vector<int> fill_span_;
   double near_end_ = 0.0;     ///< farthest corridor depth within fit_range off the grid (m)
   double growth_ = 0.0;
   uint32_t rng_ = 1;

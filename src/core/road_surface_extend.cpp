@@ -22,6 +22,7 @@ namespace {
 /// its ray meets the road plane (rayPlaneDepth() written out), unless the ray misses the plane.
 struct FillRow {
   const int* from;      ///< per column: the first row to fill
+  int lo, hi;           ///< this row's columns that fill lie in [lo, hi)
   const double* rx;     ///< per column: the ray's x (z = 1)
   const double* nx_rx;  ///< per column: nx rx
   double ny_ry;         ///< this row: ny ry
@@ -122,8 +123,11 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
              one = hn::Set(d, 1.0);
   const auto one_f = hn::Set(df, 1.f);
   const auto full_i = hn::Set(di, 255);
-  int x = 0, filled = 0;
-  for (; x + N <= w; x += N) {
+  const int x_end = w / N * N;
+  // (the vectors from the one holding lo to the one holding hi - 1: the others fill nothing)
+  const int x_stop = std::min(x_end, (f.hi + N - 1) / N * N);
+  int filled = 0;
+  for (int x = f.lo / N * N; x < x_stop; x += N) {
     const auto open = hn::Lt(hn::LoadU(di, f.from + x), below);  // f.v >= from
     if (hn::AllFalse(di, open)) continue;
     const auto den0 = hn::Add(hn::Add(hn::LoadU(d, f.nx_rx + x), ny_ry), nz);
@@ -156,7 +160,7 @@ int fillRowKernel(const FillRow& f, int w, int* count) {
     filled += static_cast<int>(hn::CountTrue(di, fill));
   }
   *count += filled;
-  return x;
+  return x_end;
 }
 
 RLD_KERNELS_END
@@ -235,6 +239,23 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
     fill_from_[x] = y + 1;
     first = std::min(first, y + 1);
   }
+  // per row, the span of the columns that fill (a column fills from its first row on): the
+  // kernel's vectors pass over the rest of the row (on sparse depth most of it fills nothing)
+  // (by row of the points: the same size every frame)
+  fill_span_.resize(2 * static_cast<size_t>(points.rows));
+  int* span_lo = fill_span_.data();
+  int* span_hi = span_lo + points.rows;
+  std::fill(span_lo + first, span_lo + r1, w);
+  std::fill(span_hi + first, span_hi + r1, 0);
+  for (int x = 0; x < w; ++x) {
+    if (fill_from_[x] >= r1) continue;
+    span_lo[fill_from_[x]] = std::min(span_lo[fill_from_[x]], x);
+    span_hi[fill_from_[x]] = x + 1;
+  }
+  for (int v = first + 1; v < r1; ++v) {
+    span_lo[v] = std::min(span_lo[v], span_lo[v - 1]);
+    span_hi[v] = std::max(span_hi[v], span_hi[v - 1]);
+  }
   // each pixel's ray K.ray(u, v) from its column's and its row's part, and rayPlaneDepth()
   // written out (fillTail()): the products nx rx per column and ny ry per row, once
   const double nx = plane.normal.x(), ny = plane.normal.y(), nz = plane.normal.z();
@@ -261,6 +282,8 @@ int RoadSurface::extendToCamera(cv::Mat& points, const cv::Range& rows, const In
     f.ny_ry = ny * f.ry;
     f.every_ray_hits = (highest_nx_rx + f.ny_ry) + nz * 1.0 < -1e-9;
     f.v = v;
+    f.lo = span_lo[v];
+    f.hi = span_hi[v];
     f.row = points.ptr<float>(v);
     f.mark = filled.ptr<uint8_t>(v);
     const int done = RLD_DISPATCH(fillRowKernel)(f, w, &count);

@@ -194,6 +194,35 @@ TEST(RoadSurface, FillGivesTheSameBitsOnEveryTarget) {
   simd::forceTarget(simd::kBest);
 }
 
+// Columns whose depth ends on different rows (a staircase of 12 rows per 64 columns) and a band
+// of columns without any depth: on every target each column fills from the row below its own
+// nearest depth, exactly (a row's vectors pass over the columns that fill nothing yet).
+TEST(RoadSurface, FillStartsBelowEachColumnsNearestDepth) {
+  auto last_row = [](int u) { return kH * 3 / 4 - 12 * (u / 64); };
+  auto no_depth = [](int u) { return u >= 100 && u < 160; };
+  Scene scene;
+  scene.hole = [=](int u, int v) { return v > last_row(u) || no_depth(u); };
+  const cv::Mat full = scene.render();
+  RoadSurface road;
+  PlaneEstimate plane;
+  ASSERT_TRUE(road.fit(full, kRows, settings(), PlaneEstimate(), plane));
+  for (const simd::Target target : simd::availableTargets()) {
+    SCOPED_TRACE(simd::targetName(target));
+    simd::forceTarget(target);
+    cv::Mat pts = full.clone(), filled;
+    const int count = road.extendToCamera(pts, kRows, kK, plane, 0.04, 0.0015, filled);
+    int expected = 0;
+    for (int v = 0; v < kH; ++v)
+      for (int u = 0; u < kW; ++u) {
+        const bool fills = !no_depth(u) && v > last_row(u);
+        expected += fills;
+        ASSERT_EQ(filled.at<uint8_t>(v, u) != 0, fills) << u << "," << v;
+      }
+    EXPECT_EQ(count, expected);
+  }
+  simd::forceTarget(simd::kBest);
+}
+
 TEST(RoadSurface, SeededByThePreviousPlaneAndDeterministic) {
   Scene scene;
   scene.noise = 0.02;
