@@ -114,6 +114,27 @@ void accumulateRow(uint32_t* acc, const uint32_t* const* plus, const uint32_t* c
     return hn::Sub(hn::LoadU(d, plus[i] + x), hn::LoadU(d, minus[i] + x));
   };
   int x = 0;
+  for (; x + 8 * N <= n; x += 8 * N) {  // eight vectors of sums in registers over all pairs
+    auto a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0, a4 = a0, a5 = a0, a6 = a0, a7 = a0;
+    for (int i = 0; i < pairs; ++i) {
+      a0 = hn::Add(a0, diff(i, x));
+      a1 = hn::Add(a1, diff(i, x + N));
+      a2 = hn::Add(a2, diff(i, x + 2 * N));
+      a3 = hn::Add(a3, diff(i, x + 3 * N));
+      a4 = hn::Add(a4, diff(i, x + 4 * N));
+      a5 = hn::Add(a5, diff(i, x + 5 * N));
+      a6 = hn::Add(a6, diff(i, x + 6 * N));
+      a7 = hn::Add(a7, diff(i, x + 7 * N));
+    }
+    hn::StoreU(a0, d, acc + x);
+    hn::StoreU(a1, d, acc + x + N);
+    hn::StoreU(a2, d, acc + x + 2 * N);
+    hn::StoreU(a3, d, acc + x + 3 * N);
+    hn::StoreU(a4, d, acc + x + 4 * N);
+    hn::StoreU(a5, d, acc + x + 5 * N);
+    hn::StoreU(a6, d, acc + x + 6 * N);
+    hn::StoreU(a7, d, acc + x + 7 * N);
+  }
   for (; x + 4 * N <= n; x += 4 * N) {  // four vectors of sums in registers over all pairs
     auto a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
     for (int i = 0; i < pairs; ++i) {
@@ -140,16 +161,31 @@ void accumulateRow(uint32_t* acc, const uint32_t* const* plus, const uint32_t* c
 }
 
 // Prefix sums of a new row by in-register scans, 4 or 8 columns per step (256-bit vectors at
-// most: the scan crosses one 128-bit block boundary). Returns P(w).
-uint32_t updateRowKernel(const RowUpdate& u) {
+// most: the scan crosses one 128-bit block boundary), for kTables running-sum tables. The row's
+// pointers are copied out of u first: a vector store may alias anything, and the compiler would
+// read every field of u again after each one. Returns P(w).
+template <int kTables>
+uint32_t updateRowT(const RowUpdate& u) {
   const hn::CappedTag<uint32_t, 8> d;
   const hn::Rebind<uint16_t, decltype(d)> d16;
   const hn::Rebind<uint8_t, decltype(d)> d8;
   constexpr int N = static_cast<int>(hn::MaxLanes(d));
+  const uint8_t* const src = u.src;
+  const uint32_t* const ii_old = u.ii_old;
+  uint32_t* const ii_new = u.ii_new;
+  const uint32_t* const sq_old = u.sq_old;
+  uint32_t* const sq_new = u.sq_new;
+  const int w = u.w;
+  const uint32_t* e_old[kTables];
+  uint32_t* e_new[kTables];
+  for (int t = 0; t < kTables; ++t) {
+    e_old[t] = u.e_old[t];
+    e_new[t] = u.e_new[t];
+  }
   auto carry = hn::Zero(d), carry2 = carry;
   int c = 0;
-  for (; c + N <= u.w; c += N) {
-    const auto v16 = hn::PromoteTo(d16, hn::LoadU(d8, u.src + c));
+  for (; c + N <= w; c += N) {
+    const auto v16 = hn::PromoteTo(d16, hn::LoadU(d8, src + c));
     auto v = hn::PromoteTo(d, v16);
     auto q = hn::PromoteTo(d, hn::Mul(v16, v16));  // 255^2 fits 16 bits
     v = hn::Add(v, hn::ShiftLeftLanes<1>(d, v));
@@ -169,20 +205,32 @@ uint32_t updateRowKernel(const RowUpdate& u) {
     q = hn::Add(q, carry2);
     const auto next = hn::Add(tv, carry), next2 = hn::Add(tq, carry2);
     const int X = c + 1;
-    hn::StoreU(hn::Add(hn::LoadU(d, u.ii_old + X), v), d, u.ii_new + X);
-    hn::StoreU(hn::Add(hn::LoadU(d, u.sq_old + X), q), d, u.sq_new + X);
-    for (int t = 0; t < u.tables; ++t)
-      hn::StoreU(hn::Add(hn::LoadU(d, u.e_old[t] + X), v), d, u.e_new[t] + X);
+    hn::StoreU(hn::Add(hn::LoadU(d, ii_old + X), v), d, ii_new + X);
+    hn::StoreU(hn::Add(hn::LoadU(d, sq_old + X), q), d, sq_new + X);
+    for (int t = 0; t < kTables; ++t)
+      hn::StoreU(hn::Add(hn::LoadU(d, e_old[t] + X), v), d, e_new[t] + X);
     carry = next;
     carry2 = next2;
   }
   return updateTail(u, c, hn::GetLane(carry), hn::GetLane(carry2));
 }
 
+uint32_t updateRowKernel(const RowUpdate& u) {
+  static_assert(NccMatcher::kMaxTemplates == 4, "a case per table count");
+  switch (u.tables) {  // 1 to NccMatcher::kMaxTemplates
+    case 1: return updateRowT<1>(u);
+    case 2: return updateRowT<2>(u);
+    case 3: return updateRowT<3>(u);
+    default: return updateRowT<NccMatcher::kMaxTemplates>(u);
+  }
+}
+
 // Scores of one row, whole vectors, the same values lane for lane as scorePixel(): S, Q and
 // diff2 in double, N exact (32-bit integers when area * acc < 2^31, templates up to 45 px; else
-// double, exact below 2^53). Returns the columns done.
-template <bool kWide>
+// double, exact below 2^53), for kT templates. The row's pointers and the templates' factors are
+// copied out of r first (a vector store may alias anything: the compiler would read them again
+// after each store). Returns the columns done.
+template <bool kWide, int kT>
 int scoreRowT(const ScoreRow& r, int n) {
   const hn::ScalableTag<int32_t> d32;
   const hn::Rebind<float, decltype(d32)> df;
@@ -194,6 +242,21 @@ int scoreRowT(const ScoreRow& r, int n) {
              half = hn::Set(dd, 0.5), inf_d = hn::Set(dd, std::numeric_limits<double>::infinity()),
              two32 = hn::Set(dd, 4294967296.0), zero_d = hn::Zero(dd);
   const auto f_one = hn::Set(df, 1.f), f_zero = hn::Zero(df);
+  const uint32_t* const top = r.top;
+  const uint32_t* const bottom = r.bottom;
+  const uint32_t* const top_sq = r.top_sq;
+  const uint32_t* const bottom_sq = r.bottom_sq;
+  const int s = r.s, area = r.area;
+  const uint32_t* acc[kT];
+  float* out[kT];
+  int count[kT];
+  float k_t[kT];
+  for (int k = 0; k < kT; ++k) {
+    acc[k] = r.acc[k];
+    out[k] = r.out[k];
+    count[k] = r.count[k];
+    k_t[k] = r.k[k];
+  }
   auto ld = [&](const uint32_t* p) {
     return hn::BitCast(d32, hn::LoadU(hn::RebindToUnsigned<decltype(d32)>(), p));
   };
@@ -201,15 +264,15 @@ int scoreRowT(const ScoreRow& r, int n) {
   auto upper = [&](hn::Vec<decltype(d32)> v) { return hn::PromoteTo(dd, hn::UpperHalf(d32h, v)); };
   int x = 0;
   for (; x + N <= n; x += N) {
-    const auto S = hn::Sub(hn::Sub(ld(r.bottom + r.s + x), ld(r.bottom + x)),
-                           hn::Sub(ld(r.top + r.s + x), ld(r.top + x)));
+    const auto S = hn::Sub(hn::Sub(ld(bottom + s + x), ld(bottom + x)),
+                           hn::Sub(ld(top + s + x), ld(top + x)));
     if (hn::AllTrue(d32, hn::Eq(S, hn::Zero(d32)))) {
-      for (int k = 0; k < r.templates; ++k)
-        hn::StoreU(f_zero, df, r.out[k] + x);  // windows of zeros are flat
+      for (int k = 0; k < kT; ++k)
+        hn::StoreU(f_zero, df, out[k] + x);  // windows of zeros are flat
       continue;
     }
-    const auto Q = hn::Sub(hn::Sub(ld(r.bottom_sq + r.s + x), ld(r.bottom_sq + x)),
-                           hn::Sub(ld(r.top_sq + r.s + x), ld(r.top_sq + x)));
+    const auto Q = hn::Sub(hn::Sub(ld(bottom_sq + s + x), ld(bottom_sq + x)),
+                           hn::Sub(ld(top_sq + s + x), ld(top_sq + x)));
     hn::Vec<decltype(dfh)> d_f[2];
     hn::Vec<decltype(dd)> sum_d[2];
     for (int h = 0; h < 2; ++h) {
@@ -222,27 +285,37 @@ int scoreRowT(const ScoreRow& r, int n) {
       d_f[h] = hn::DemoteTo(dfh, hn::IfThenElse(keep, diff2, inf_d));
     }
     const auto inv_sd = hn::Div(f_one, hn::Sqrt(hn::Combine(df, d_f[1], d_f[0])));
-    for (int k = 0; k < r.templates; ++k) {
+    for (int k = 0; k < kT; ++k) {
       hn::Vec<decltype(df)> num;
       if (kWide) {
-        const auto A = ld(r.acc[k] + x);
-        const auto area = hn::Set(dd, r.area), count = hn::Set(dd, r.count[k]);
-        const auto n0 = hn::Sub(hn::Mul(area, lower(A)), hn::Mul(count, sum_d[0]));
-        const auto n1 = hn::Sub(hn::Mul(area, upper(A)), hn::Mul(count, sum_d[1]));
+        const auto A = ld(acc[k] + x);
+        const auto area_d = hn::Set(dd, area), count_d = hn::Set(dd, count[k]);
+        const auto n0 = hn::Sub(hn::Mul(area_d, lower(A)), hn::Mul(count_d, sum_d[0]));
+        const auto n1 = hn::Sub(hn::Mul(area_d, upper(A)), hn::Mul(count_d, sum_d[1]));
         num = hn::Combine(df, hn::DemoteTo(dfh, n1), hn::DemoteTo(dfh, n0));
       } else {
-        num = hn::ConvertTo(df, hn::Sub(hn::Mul(hn::Set(d32, r.area), ld(r.acc[k] + x)),
-                                        hn::Mul(hn::Set(d32, r.count[k]), S)));
+        num = hn::ConvertTo(df, hn::Sub(hn::Mul(hn::Set(d32, area), ld(acc[k] + x)),
+                                        hn::Mul(hn::Set(d32, count[k]), S)));
       }
-      const auto v = hn::Mul(num, hn::Mul(inv_sd, hn::Set(df, r.k[k])));
-      hn::StoreU(hn::IfThenElseZero(hn::Gt(v, f_zero), hn::Min(v, f_one)), df, r.out[k] + x);
+      const auto v = hn::Mul(num, hn::Mul(inv_sd, hn::Set(df, k_t[k])));
+      hn::StoreU(hn::IfThenElseZero(hn::Gt(v, f_zero), hn::Min(v, f_one)), df, out[k] + x);
     }
   }
   return x;
 }
 
+template <bool kWide>
+int scoreRowW(const ScoreRow& r, int n) {
+  switch (r.templates) {  // 1 to NccMatcher::kMaxTemplates
+    case 1: return scoreRowT<kWide, 1>(r, n);
+    case 2: return scoreRowT<kWide, 2>(r, n);
+    case 3: return scoreRowT<kWide, 3>(r, n);
+    default: return scoreRowT<kWide, NccMatcher::kMaxTemplates>(r, n);
+  }
+}
+
 int scoreRowKernel(const ScoreRow& r, int n) {
-  return r.s <= 45 ? scoreRowT<false>(r, n) : scoreRowT<true>(r, n);
+  return r.s <= 45 ? scoreRowW<false>(r, n) : scoreRowW<true>(r, n);
 }
 
 RLD_KERNELS_END
@@ -424,8 +497,11 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in,
   for (int y = 0; y < s - 1; ++y) produceRow(image, region, y);
   for (int y = 0; y < oh; ++y) {
     produceRow(image, region, y + s - 1);
+    const int y_slot = y % ring_;
     auto row = [&](bool stair, int table, int dy) -> const uint32_t* {
-      const int slot = (y + dy + ring_) % ring_;
+      int slot = y_slot + dy;  // (y + dy) mod ring_, dy in [-q, s]: no division per term
+      while (slot >= ring_) slot -= ring_;
+      if (slot < 0) slot += ring_;
       return stair ? stair_[table].ptr<uint32_t>(slot) + margin_ : integral_.ptr<uint32_t>(slot);
     };
     // A window without a pixel above 0 (most of a road in the half-binary image) scores 0 what

@@ -238,7 +238,8 @@ TEST(NccMatcher, SparseImagesAfterADenseOneEqualAFreshMatcher) {
 
 // The detector matches its two templates and, while a side acquires, both acquisition templates
 // in one pass: every map the same bits as its template matched alone (on every target), and
-// matchTemplate's scores; a pass of four and passes of two on one matcher in turn change nothing.
+// matchTemplate's scores; a pass of four and passes of two on one matcher in turn change nothing,
+// nor does a pass of three (the kernels are compiled per count of templates and tables).
 TEST(NccMatcher, OnePassOfFourTemplatesEqualsEachTemplateAlone) {
   cv::RNG rng(5);
   cv::Mat img(140, 230, CV_8UC1, cv::Scalar(0));  // a half-binary road: lines, specks, a patch
@@ -272,12 +273,17 @@ TEST(NccMatcher, OnePassOfFourTemplatesEqualsEachTemplateAlone) {
       ASSERT_TRUE(both.match(img, region, all, maps, 4));
       ASSERT_TRUE(both.match(img, region, all, maps, 2));
       ASSERT_TRUE(both.match(img, region, all, maps, 4));
+      cv::Mat m3[3];  // and a pass of three (one side acquiring), on another matcher
+      cv::Mat* maps3[3] = {&m3[0], &m3[1], &m3[2]};
+      NccMatcher three;
+      ASSERT_TRUE(three.match(img, region, all, maps3, 3));
       for (int k = 0; k < 4; ++k) {
         NccMatcher alone;
         cv::Mat a, ref;
         cv::Mat* one[1] = {&a};
         ASSERT_TRUE(alone.match(img, region, &all[k], one, 1));
         EXPECT_EQ(std::memcmp(m[k].data, a.data, a.total() * sizeof(float)), 0) << k;
+        if (k < 3) EXPECT_EQ(std::memcmp(m3[k].data, a.data, a.total() * sizeof(float)), 0) << k;
         matchTemplateReference(img, region, *all[k], ref);
         EXPECT_LT(maxDiff(m[k], ref), 1e-4) << k;
         EXPECT_GT(cv::countNonZero(m[k] > 0.3f), 0) << k;  // something matches each template
