@@ -37,6 +37,18 @@ constexpr int kModeHalfWidth = 2;           // the mode counts the bins within +
 constexpr double kSharpMode = 0.3;          // share of a bin's samples near its mode
 constexpr double kLeavesPlane = 0.08;       // m: the road left the plane
 
+// The first of the depth blocks b, b + 1, ... of a row (its block map, nb blocks) that holds
+// depth, nb when none does: eight blocks at a time while they hold none (a sparse LiDAR's rows
+// are mostly blocks without depth).
+inline int nextBlockWithDepth(const uint8_t* blocks, int b, int nb) {
+  for (uint64_t eight; b + 8 <= nb; b += 8) {
+    std::memcpy(&eight, blocks + b, sizeof(eight));
+    if (eight != 0) break;
+  }
+  while (b < nb && !blocks[b]) ++b;
+  return b;
+}
+
 // f(x) for the grid's columns x = stride / 2 + k stride of a row, in order, but none in a depth
 // block without depth (blocks: the row of the block map, or null): a sparse LiDAR's grid at a
 // fine stride passes over its empty blocks at once, not column by column
@@ -60,8 +72,7 @@ inline void forEachGridColumn(const uint8_t* blocks, int cols, int stride, F&& f
     }
     // the blocks without depth from here on passed over at once: x onto the grid's first column
     // in the next block with depth (or past the row)
-    do ++b;
-    while (b * kDepthBlock < cols && !blocks[b]);
+    b = nextBlockWithDepth(blocks, b + 1, (cols + kDepthBlock - 1) / kDepthBlock);
     x += (b * kDepthBlock - x + stride - 1) / stride * stride;
   }
 }
@@ -103,17 +114,21 @@ class GridRules {
   template <typename F>
   void forEachCorridorColumn(const uint8_t* blocks, int stride, bool grid_row, F&& f) const {
     int grid_x = nextGrid(far_cols_.start, stride);
-    for (int x = far_cols_.start; x < far_cols_.end; ++x) {
+    for (int x = far_cols_.start; x < far_cols_.end;) {
       if (x % kDepthBlock == 0 && !scanned(blocks, x)) {  // a block without depth
-        x += kDepthBlock - 1;
-        grid_x = nextGrid(x + 1, stride);
+        x += kDepthBlock;
+        grid_x = nextGrid(x, stride);
         continue;
       }
-      if (grid_row && x == grid_x) {  // taken on the grid
-        grid_x += stride;
-        continue;
+      // the columns to the block's end (a block is looked up once)
+      for (const int end = std::min(far_cols_.end, (x / kDepthBlock + 1) * kDepthBlock); x < end;
+           ++x) {
+        if (grid_row && x == grid_x) {  // taken on the grid
+          grid_x += stride;
+          continue;
+        }
+        f(x);
       }
-      f(x);
     }
   }
   // f(x) for the grid's columns that forEachCorridorColumn() leaves out on a grid row
