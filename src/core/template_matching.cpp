@@ -135,19 +135,6 @@ void accumulateRow(uint32_t* acc, const uint32_t* const* plus, const uint32_t* c
     hn::StoreU(a6, d, acc + x + 6 * N);
     hn::StoreU(a7, d, acc + x + 7 * N);
   }
-  for (; x + 4 * N <= n; x += 4 * N) {  // four vectors of sums in registers over all pairs
-    auto a0 = hn::Zero(d), a1 = a0, a2 = a0, a3 = a0;
-    for (int i = 0; i < pairs; ++i) {
-      a0 = hn::Add(a0, diff(i, x));
-      a1 = hn::Add(a1, diff(i, x + N));
-      a2 = hn::Add(a2, diff(i, x + 2 * N));
-      a3 = hn::Add(a3, diff(i, x + 3 * N));
-    }
-    hn::StoreU(a0, d, acc + x);
-    hn::StoreU(a1, d, acc + x + N);
-    hn::StoreU(a2, d, acc + x + 2 * N);
-    hn::StoreU(a3, d, acc + x + 3 * N);
-  }
   for (; x + N <= n; x += N) {
     auto a = hn::Zero(d);
     for (int i = 0; i < pairs; ++i) a = hn::Add(a, diff(i, x));
