@@ -86,6 +86,10 @@ class BoundaryCandidateFinder {
   /// Points around a seed roadAround() reads at most: (2 * (template_size / 4) + 1)^2 at the
   /// largest template_size (256).
   static constexpr size_t kReservedSeedHeights = 129 * 129;
+  /// Image columns and ridges traceLoneDash() is reserved for (they grow past them once, on a
+  /// wider image or a busier road).
+  static constexpr size_t kReservedRowPixels = 4096;
+  static constexpr size_t kReservedRidges = 8192;
   BoundaryCandidateFinder() {
     seed_pixels_.reserve(kReservedRows);
     seed_points_.reserve(kReservedRows);
@@ -93,6 +97,13 @@ class BoundaryCandidateFinder {
     prior_road_.reserve(kReservedRows);
     band_lo_.reserve(kReservedRows);
     band_hi_.reserve(kReservedRows);
+    row_grey_.reserve(kReservedRowPixels);
+    row_sums_.reserve(kReservedRowPixels + 1);
+    ridges_.reserve(kReservedRidges);
+    strokes_.reserve(kReservedRidges);
+    live_.reserve(kReservedRidges);
+    stroke_pixels_.reserve(kReservedRows);
+    wobble_road_.reserve(kReservedRows);
   }
 
   /// Replace the parameters (already sanitised).
@@ -136,6 +147,21 @@ class BoundaryCandidateFinder {
    *            search, restored afterwards).
    */
   void traceBesidePaint(const CandidateFrame& f, cv::Mat& R_left, cv::Mat& R_right);
+
+  /**
+   * @brief After traceBesidePaint(): a side with no painted candidate and no tracked boundary is
+   * sought for one dash of a dashed line that no template matched (a thin dash far ahead, in
+   * dappled shadow, where the half-binary image keeps the sunlit asphalt too): on each image row
+   * kPriorNear to kPriorFar ahead, where an ego boundary can be (boundary_offset_min/max), the
+   * ridges of paint width that stand out of the same road on both sides by the paint contrast;
+   * rows of ridges one after another along the road make strokes, and the longest is classified.
+   * It is added as paint when it is one dash of a lane line: paint by its width, flat on the
+   * road with road on both sides (no height step), as straight as machine-laid paint (a strip of
+   * sunlight between foliage shadows wobbles), running along the road, 2-10 m of road long when
+   * followed across no gap (kStrokeGap), and no arrow's head beyond it.
+   * @param[in] f the frame.
+   */
+  void traceLoneDash(const CandidateFrame& f);
 
   /// Candidates of side @p side (count in @p count), best seed first.
   const BoundaryCandidate* candidates(int side, int& count) const {
@@ -230,6 +256,13 @@ class BoundaryCandidateFinder {
                      double* extent = nullptr, double* painted = nullptr,
                      double max_forward = std::numeric_limits<double>::infinity(),
                      double* rows_cover = nullptr, bool lone_points = false) const;
+  /// The longest stroke of paint-width ridges on @p side where an ego boundary can be
+  /// (traceLoneDash()), its rows near to far in stroke_pixels_; false when none is
+  /// min_marker_points rows and kMinStroke long.
+  bool longestRidgeStroke(const CandidateFrame& f, int side);
+  /// RMS (m) of the road-plane lateral offsets of @p pixels about their least-squares line on
+  /// the road (+inf with fewer than three on the road).
+  double lateralWobble(const CandidateFrame& f, const std::vector<cv::Point2f>& pixels);
   /// A narrow band taken for a rail head that comes in dashes when followed: worn paint; broken
   /// by dash gaps but covering more than dashes do: no boundary (a seam's or a crack's rim).
   void dashedNarrowLine(const CandidateFrame& f, int side, BoundaryCandidate& c);
@@ -258,6 +291,24 @@ class BoundaryCandidateFinder {
   std::vector<cv::Point2f> seed_pixels_;       ///< followFromSeed()'s line
   std::vector<Eigen::Vector3f> seed_points_;
   std::vector<float> seed_heights_;  ///< roadAround()'s heights
+  /// longestRidgeStroke()'s buffers: a row's grey and its prefix sums, the ridges found (input pixels,
+  /// their road coordinates and stroke), each stroke's last ridge, forward extent and rows
+  std::vector<uint8_t> row_grey_;
+  std::vector<int> row_sums_;
+  struct Ridge {
+    cv::Point2f pixel;
+    Eigen::Vector2d road;
+    int stroke;
+  };
+  std::vector<Ridge> ridges_;
+  struct Stroke {
+    Eigen::Vector2d first, last;
+    int rows;
+  };
+  std::vector<Stroke> strokes_;
+  std::vector<int> live_;  ///< the strokes (in order of their first ridge) a row may continue
+  std::vector<cv::Point2f> stroke_pixels_;
+  std::vector<Eigen::Vector2d> wobble_road_;
   std::vector<Eigen::Vector2d> prior_road_;  ///< paintedSideLine()'s road points
   std::vector<int> band_lo_, band_hi_;
 };

@@ -104,7 +104,9 @@ class BoundaryClassifier {
                    const Params& p);
 
   /// A bright band much wider than paint just beyond the far end of a painted line (input
-  /// pixels, near to far): the line is the shaft of a lane arrow.
+  /// pixels, near to far) that narrows to a tip: the line is the shaft of a lane arrow. A tip
+  /// tapers on; paint of a line's width running on past kArrowTip beyond the narrowing is the
+  /// line itself beyond a wide bright patch (a dash through a patch of sunlight): no head.
   bool arrowHead(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels, const Params& p);
 
   /**

@@ -68,6 +68,25 @@ constexpr double kSideMaxHeading = 0.35;  // rad: a lane boundary runs along the
 constexpr double kPriorNear = 3.0;
 constexpr double kPriorFar = 30.0;
 constexpr double kPriorShare = 0.6;  // share of the line found there that lies in the band
+// One dash alone (traceLoneDash()): a ridge of paint width on an image row is a centre of
+// kDashCore m (10-15 cm paint) kDashMargin clear of two flanks of kDashFlank m of road each
+constexpr double kDashCore = 0.12;
+constexpr double kDashMargin = 0.05;
+constexpr double kDashFlank = 0.15;
+// m of road within which the next row's ridge continues a stroke (rows along paint are found on
+// every image row, a few centimetres to half a metre of road apart); across it, within
+// kMaxSeedHeading of the road's direction and kDashSlack of lateral play (a pixel's rounding)
+constexpr double kDashLink = 0.5;
+constexpr double kDashSlack = 0.05;
+// m: a lone dash, followed across no gap, is 2-10 m of road: lane-line dashes are 3-6 m of
+// paint (issue 26; the rows at either end add up to a row's road, half a metre at 30 m); a
+// shorter stroke is a marking's fragment, a longer one no dash (a line the templates find)
+constexpr double kLoneDashMin = 2.0;
+constexpr double kLoneDashMax = 10.0;
+// m: machine-laid paint is straight: its ridge rows lie within a centimetre or two of a straight
+// line on the road (and half a pixel's rounding); a strip of sunlight between the shadows of
+// leaves wobbles by several centimetres
+constexpr double kDashWobble = 0.02;
 
 // Road-plane coordinates (forward, lateral left) of the input pixel (u, v): its ray met with the
 // road plane of @p f in @p frame; false where the ray does not meet the road ahead.
@@ -639,6 +658,189 @@ void BoundaryCandidateFinder::addRoadEdgesFromDepth(const CandidateFrame& f) {
     classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
     matchLengths(m);
     if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kRoadEdge) continue;
+    ++counts_[side];
+  }
+}
+
+bool BoundaryCandidateFinder::longestRidgeStroke(const CandidateFrame& f, int side) {
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  const double sign = side == 0 ? 1.0 : -1.0;  // lateral: + left
+  ridges_.clear();
+  strokes_.clear();
+  live_.clear();
+  const int v0 = std::max(in.grey_rows.start, 0);
+  const int v1 = std::min(in.grey_rows.end, f.input_size.height);
+  for (int v = v1 - 1; v >= v0; --v) {  // near to far
+    double fc = 0.0, ppm = 0.0;
+    if (!in.roadAt(f.K.cx, v, fc, ppm) || fc < kPriorNear || fc > kPriorFar) continue;
+    // the strokes a ridge of this row can continue (those ended farther behind are done; with
+    // a quarter of the distance's margin: across a row of a rolled road the forward distance
+    // changes by several percent per degree of roll)
+    live_.erase(std::remove_if(live_.begin(), live_.end(),
+                               [&](int k) {
+                                 return fc - strokes_[k].last.x() > kDashLink + 0.25 * fc;
+                               }),
+                live_.end());
+    const ImageRow row(in, v);
+    if (!row.valid()) continue;
+    // the columns where an ego boundary can be on this row (straight ahead at its distance)
+    const Eigen::Vector3d a = in.frame.toCamera(fc, sign * params_.boundary_offset_min);
+    const Eigen::Vector3d b = in.frame.toCamera(fc, sign * params_.boundary_offset_max);
+    if (!(a.z() > 0.1) || !(b.z() > 0.1)) continue;
+    const double ua = f.K.project(a).x, ub = f.K.project(b).x;
+    const int hw = std::max(1, static_cast<int>(std::lround(0.5 * kDashCore * ppm)));
+    const int gap = std::max(1, static_cast<int>(std::lround(kDashMargin * ppm)));
+    const int fw = std::max(2, static_cast<int>(std::lround(kDashFlank * ppm)));
+    const int reach = hw + gap + fw;
+    const int lo = std::max(static_cast<int>(std::floor(std::min(ua, ub))), reach);
+    const int hi = std::min(static_cast<int>(std::ceil(std::max(ua, ub))),
+                            f.input_size.width - 1 - reach);
+    if (lo > hi) continue;
+    // the row's grey prefix sums from lo - reach
+    const int first = lo - reach, n = hi + reach - first + 1;
+    row_grey_.resize(static_cast<size_t>(n));
+    row.greyRun(first, n, row_grey_.data());
+    row_sums_.assign(static_cast<size_t>(n) + 1, 0);
+    for (int i = 0; i < n; ++i) row_sums_[i + 1] = row_sums_[i] + row_grey_[i];
+    const auto mean = [&](int u, int count) {
+      return static_cast<float>(row_sums_[u - first + count] - row_sums_[u - first]) / count;
+    };
+    // each run of columns whose centre stands out of both flanks (the same road either side:
+    // kMaxSideStep) gives its strongest column as the row's ridge
+    int best_u = -1;
+    float best = 0.f;
+    for (int u = lo; u <= hi + 1; ++u) {
+      float ridge = 0.f;
+      if (u <= hi) {
+        const float centre = mean(u - hw, 2 * hw + 1);
+        const float l = mean(u - hw - gap - fw, fw), r = mean(u + hw + gap + 1, fw);
+        const float back = std::max(l, r);
+        const float rise = centre - back;
+        if (rise >= std::max(BandProfile::kMinContrast,
+                             static_cast<float>(params_.paint_contrast) * back) &&
+            std::fabs(l - r) <= kMaxSideStep * rise)
+          ridge = rise;
+      }
+      if (ridge > 0.f) {
+        if (ridge > best) best = ridge, best_u = u;
+        continue;
+      }
+      if (best_u < 0) continue;
+      Eigen::Vector2d q;
+      const cv::Point2f px(static_cast<float>(best_u), static_cast<float>(v));
+      best_u = -1;
+      best = 0.f;
+      if (!roadCoordinates(f, in.frame, px.x, px.y, q)) continue;
+      // the first stroke it continues (its last ridge within kDashLink behind, along the road)
+      int stroke = -1;
+      for (size_t i = 0; i < live_.size() && stroke < 0; ++i) {
+        const Stroke& s = strokes_[live_[i]];
+        const double df = q.x() - s.last.x();
+        if (df >= 0.0 && df <= kDashLink &&
+            std::fabs(q.y() - s.last.y()) <= std::tan(kMaxSeedHeading) * df + kDashSlack)
+          stroke = live_[i];
+      }
+      if (stroke < 0) {
+        stroke = static_cast<int>(strokes_.size());
+        strokes_.push_back({q, q, 0});
+        live_.push_back(stroke);
+      }
+      strokes_[stroke].last = q;
+      ++strokes_[stroke].rows;
+      ridges_.push_back({px, q, stroke});
+    }
+  }
+  int longest = -1;
+  for (size_t k = 0; k < strokes_.size(); ++k) {
+    const Stroke& s = strokes_[k];
+    const double length = s.last.x() - s.first.x();
+    if (s.rows >= params_.min_marker_points && length >= kMinStroke &&
+        (longest < 0 || length > strokes_[longest].last.x() - strokes_[longest].first.x()))
+      longest = static_cast<int>(k);
+  }
+  if (longest < 0) return false;
+  stroke_pixels_.clear();
+  for (const Ridge& r : ridges_)
+    if (r.stroke == longest) stroke_pixels_.push_back(r.pixel);
+  return true;
+}
+
+double BoundaryCandidateFinder::lateralWobble(const CandidateFrame& f,
+                                              const std::vector<cv::Point2f>& pixels) {
+  std::vector<Eigen::Vector2d>& q = wobble_road_;
+  q.clear();
+  for (const auto& px : pixels) {
+    Eigen::Vector2d r;
+    if (roadCoordinates(f, classifier_input_.frame, px.x, px.y, r)) q.push_back(r);
+  }
+  if (q.size() < 3) return std::numeric_limits<double>::infinity();
+  double s1 = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const auto& r : q) s1 += 1, sx += r.x(), sy += r.y(), sxx += r.x() * r.x(), sxy += r.x() * r.y();
+  const double den = s1 * sxx - sx * sx;
+  if (!(std::fabs(den) > 1e-12)) return std::numeric_limits<double>::infinity();
+  const double b = (s1 * sxy - sx * sy) / den, a = (sy - b * sx) / s1;
+  double ss = 0.0;
+  for (const auto& r : q) ss += (r.y() - a - b * r.x()) * (r.y() - a - b * r.x());
+  return std::sqrt(ss / s1);
+}
+
+void BoundaryCandidateFinder::traceLoneDash(const CandidateFrame& f) {
+  if (!params_.classify_boundaries || f.road == nullptr || !f.road->valid) return;
+  const ClassifierInput& in = classifier_input_;  // set by classify()
+  for (int side = 0; side < 2; ++side) {
+    // a side without a painted candidate, and without a tracked boundary (the lane model
+    // predicts that one; a lone dash is a frame's first sight of a line)
+    bool painted = false;
+    for (int k = 0; k < counts_[side]; ++k)
+      painted |= candidates_[side][k].evidence.boundary &&
+                 candidates_[side][k].evidence.kind == BoundaryKind::kPaint;
+    if (painted || (params_.track_lanes && f.fitter != nullptr && f.fitter->tracker().valid(side)))
+      continue;
+    if (!longestRidgeStroke(f, side)) continue;
+    // as straight as paint: the ridge rows' wobble about their line, and half a pixel's rounding
+    // at the stroke's near end
+    double f0 = 0.0, ppm = 0.0;
+    if (!in.roadAt(stroke_pixels_.front().x, stroke_pixels_.front().y, f0, ppm) ||
+        !(lateralWobble(f, stroke_pixels_) <= kDashWobble + 0.5 / ppm))
+      continue;
+    BoundaryCandidate& c = next(side);
+    MarkerTrace& m = c.trace;
+    startTrace(m);
+    m.angle_valid = false;
+    m.angle = f.template_angle[side];
+    m.seed = stroke_pixels_.front();
+    m.peak_score = static_cast<float>(params_.trace_threshold);
+    for (const auto& px : stroke_pixels_) {
+      m.pixels.push_back(px);
+      m.points.push_back(pointAt(f, cv::Point2f(f.toProcessing(px))));
+    }
+    m.seed_point = m.points.front();
+    // paint by its width
+    classifier_.classify(in, m.pixels, side == 0, params_, c.evidence);
+    matchLengths(m);
+    if (!c.evidence.boundary || c.evidence.kind != BoundaryKind::kPaint || c.evidence.narrowLine())
+      continue;
+    // the dash, row by row, across no gap (a dash gap's sunlit flecks are no part of it)
+    if (classifier_.followLine(in, m.pixels, m.points, params_, kStrokeGap, params_.max_depth,
+                               BoundaryClassifier::kTraceReach, true) < params_.min_marker_points)
+      continue;
+    if (classifier_.cutAtObject(in, m.pixels, side == 0, params_)) matchLengths(m);
+    double extent = 0.0;
+    paintStretches(f, m.pixels, kStrokeGap, &extent);
+    if (extent < kLoneDashMin || extent > kLoneDashMax || !runsAhead(f, m.pixels)) continue;
+    // flat on the road with road on both sides: paint, no height step where depth measures it
+    BoundaryEvidence& ev = c.evidence;
+    classifier_.classify(in, m.pixels, side == 0, params_, ev);
+    matchLengths(m);
+    const auto flat = [&](float h) { return !std::isfinite(h) || std::fabs(h) <= params_.kerb_height; };
+    if (!ev.boundary || ev.kind != BoundaryKind::kPaint || ev.raised || !flat(ev.inner_height) ||
+        !flat(ev.line_height) || !flat(ev.outer_height))
+      continue;
+    if (classifier_.arrowHead(in, m.pixels, params_)) continue;  // a turn arrow's shaft
+    m.scores.assign(m.pixels.size(), m.peak_score);
+    m.num_valid_points = 0;
+    for (const auto& p : m.points) m.num_valid_points += !std::isnan(p.z());
+    ev.reason = "lone dash";
     ++counts_[side];
   }
 }

@@ -33,6 +33,11 @@ constexpr double kArrowBack = 3.0;            // ... and from this far before it
 constexpr double kArrowHalfWidth = 0.8;       // m either side of the stroke's extension looked at
 constexpr double kArrowTaper = 0.5;           // an arrow's head narrows below this share of its base
 constexpr double kArrowWidthShare = 1.0;      // a head is wider than paint_width_max (no lane line is)
+// m: beyond the narrowing, a head's tip keeps tapering: it halves its width again (or ends)
+// within this much road (heads are up to 2.5 m long, their narrow half up to 1.25 m); paint of
+// a line's width running on this far without tapering is a line beyond a wide bright patch (a
+// dash through a patch of sunlight), no arrow's tip
+constexpr double kArrowTip = 1.5;
 constexpr double kWidthPixelsPerMetre = BandProfile::kWidthPixelsPerMetre;
 constexpr int kMaxProfileHalf = BandProfile::kMaxProfileHalf;
 constexpr float kMinContrast = BandProfile::kMinContrast;
@@ -103,10 +108,14 @@ bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<
     v_start = static_cast<int>(std::lround(pixels[i].y));
   }
   int wide = 0, widest = 0;
+  // after the narrowing (a tip's start): where it started and its widest row since
+  bool narrowed = false;
+  double tip_start = 0.0;
+  int tip_widest = 0;
   for (int v = v_start; v >= 0; --v) {
     const double u = v >= b.y ? columnAt(pixels, v) : b.x + du * (v - b.y);
     double f = 0.0, ppm = 0.0;
-    if (!in.roadAt(u, v, f, ppm) || f - f0 > kArrowReach) break;
+    if (!in.roadAt(u, v, f, ppm) || (!narrowed && f - f0 > kArrowReach)) break;
     if (ppm < kWidthPixelsPerMetre) break;
     const ImageRow row(in, v);
     if (!row.valid()) break;
@@ -142,14 +151,27 @@ bool BoundaryClassifier::arrowHead(const ClassifierInput& in, const std::vector<
       }
       if (measured >= kMinHeights && 2 * raised > measured) break;
     }
+    if (narrowed) {
+      // the tip tapers on (to half its width, or below paint width) before kArrowTip; a line
+      // keeps its paint width past it
+      tip_widest = std::max(tip_widest, width);
+      if (width < p.paint_width_min * ppm || width > p.paint_width_max * ppm ||
+          2 * width < tip_widest)
+        return true;
+      if (f - tip_start >= kArrowTip) return false;
+      continue;
+    }
     if (bounded && width > kArrowWidthShare * p.paint_width_max * ppm) {
       ++wide;
       widest = std::max(widest, width);
     } else if (wide >= kMinRows && width > 0 && width < kArrowTaper * widest) {
-      return true;  // the head narrows to its tip (a zebra stripe keeps its width, then ends)
+      // the head narrows to its tip (a zebra stripe keeps its width, then ends)
+      narrowed = true;
+      tip_start = f;
+      tip_widest = width;
     }
   }
-  return false;
+  return narrowed;
 }
 
 bool BoundaryClassifier::cutAtObject(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,

@@ -153,6 +153,7 @@ void LaneDetector::classifyCandidates() {
   const StageTimer timer(timings_.classify);
   finder_.classify(candidate_frame_);
   finder_.traceBesidePaint(candidate_frame_, response_left_, response_right_);
+  finder_.traceLoneDash(candidate_frame_);
 }
 
 void LaneDetector::fitLane(Result& result) {

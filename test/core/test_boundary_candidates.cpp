@@ -475,5 +475,60 @@ TEST(BoundaryCandidateFinder, FaintLineWithoutPaintBesideIsNotFollowed) {
   }
 }
 
+// One 15 cm dash 1.8 m left of the camera, 10-15 m ahead, on a level road and nothing else (no
+// template match: every map is zero), its centre wobbling by @p wobble m (a sine of 1 m period
+// along the road): the left side's candidates after classification, traceBesidePaint() and
+// traceLoneDash().
+std::vector<BoundaryCandidate> loneDash(double wobble) {
+  test::CrossSection cs;
+  cs.colour = [wobble](double x, double z) {
+    const double centre = -1.8 + wobble * std::sin(2.0 * M_PI * z);
+    return std::fabs(x - centre) < 0.075 && z >= 10.0 && z <= 15.0 ? test::grey(220)
+                                                                     : test::grey(80);
+  };
+  test::RenderedRoad road;
+  road.render(cs);
+  cv::Mat R_left(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  cv::Mat R_right(test::kH, test::kW, CV_32FC1, cv::Scalar(0.f));
+  RenderedRoadFinder fx(road);
+  BoundaryCandidateFinder& finder = fx.finder;
+  finder.traceLines(fx.f, 0, R_left);
+  finder.traceLines(fx.f, 1, R_right);
+  finder.classify(fx.f);
+  finder.traceBesidePaint(fx.f, R_left, R_right);
+  finder.traceLoneDash(fx.f);
+  int n = 0;
+  const BoundaryCandidate* c = finder.candidates(0, n);
+  return std::vector<BoundaryCandidate>(c, c + n);
+}
+
+TEST(BoundaryCandidateFinder, OneStraightDashAloneIsPaint) {
+  // no seed: the dash is found by its ridge rows, followed across no gap and taken as paint on
+  // its line (x = -1.8 m, 10-15 m ahead)
+  int painted = 0;
+  for (const BoundaryCandidate& k : loneDash(0.0)) {
+    if (!k.evidence.boundary || k.evidence.kind != BoundaryKind::kPaint) continue;
+    ++painted;
+    EXPECT_STREQ(k.evidence.reason, "lone dash");
+    double nearest = 1e9, farthest = 0.0;
+    for (const auto& px : k.trace.pixels) {
+      const double z = test::roadForward(px);
+      nearest = std::min(nearest, z);
+      farthest = std::max(farthest, z);
+      EXPECT_NEAR(test::kK.fx * -1.8 / z + test::kK.cx, px.x, 1.5) << "row " << px.y;
+    }
+    EXPECT_NEAR(nearest, 10.0, 0.5);
+    EXPECT_NEAR(farthest, 15.0, 0.7);
+  }
+  EXPECT_EQ(painted, 1);
+}
+
+TEST(BoundaryCandidateFinder, AWobblingStripAloneIsNoDash) {
+  // the same stroke wobbling 8 cm either side (RMS 5.7 cm about its line, over the 2 cm and half
+  // a pixel that paint keeps): a strip of light between shadows, no dash
+  for (const BoundaryCandidate& k : loneDash(0.08))
+    EXPECT_FALSE(k.evidence.boundary && k.evidence.kind == BoundaryKind::kPaint) << k.evidence.reason;
+}
+
 }  // namespace
 }  // namespace rgbd_lane_detector

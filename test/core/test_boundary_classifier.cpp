@@ -147,6 +147,28 @@ TEST(BoundaryClassifier, AVehicleBeyondAStrokeIsNoArrowHead) {
   EXPECT_FALSE(f.classifier.arrowHead(f.in, px, p)) << "a vehicle beyond the stroke";
 }
 
+TEST(BoundaryClassifier, ALineRunningOnBeyondABrightPatchIsNoArrowHead) {
+  // a 15 cm stroke at x = -1.8 (4-6.5 m ahead), beyond it a bright patch 0.8 m wide (7-7.6 m:
+  // 4 rows wider than paint_width_max, a patch of sunlight) and the line running on at 15 cm
+  // from 7.6 to 10 m: the patch narrows to paint width (below half its width) like a head to its
+  // tip, but the narrow run keeps its width for more than kArrowTip (1.5 m): a line, no head.
+  // Ending at 8.5 m instead (0.9 m of narrow run, then road), the same shape is a head.
+  for (const double end : {10.0, 8.5}) {
+    CrossSection cs;
+    cs.colour = [end](double x, double z) {
+      const double off = std::fabs(x + 1.8);
+      const bool stroke = off < 0.075 && ((z >= 4.0 && z <= 6.5) || (z >= 7.6 && z <= end));
+      const bool patch = off < 0.4 && z >= 7.0 && z < 7.6;
+      return stroke || patch ? grey(230) : grey(80);
+    };
+    Fixture f;
+    f.render(cs);
+    const std::vector<cv::Point2f> px = rowPoints(-1.8, 4.0, 6.5);
+    EXPECT_EQ(f.classifier.arrowHead(f.in, px, Params::improved()), end < 9.0)
+        << "line to " << end << " m";
+  }
+}
+
 TEST(BoundaryClassifier, ZebraStripeIsNoBoundary) {
   CrossSection cs;
   cs.colour = [](double x, double) { return std::fabs(x + 1.5) < 0.25 ? grey(220) : grey(80); };
