@@ -99,6 +99,7 @@ class BoundaryCandidateFinder {
     band_hi_.reserve(kReservedRows);
     row_grey_.reserve(kReservedRowPixels);
     row_sums_.reserve(kReservedRowPixels + 1);
+    row_kept_.reserve(kReservedRowPixels);
     ridges_.reserve(kReservedRidges);
     strokes_.reserve(kReservedRidges);
     live_.reserve(kReservedRidges);
@@ -291,10 +292,12 @@ class BoundaryCandidateFinder {
   std::vector<cv::Point2f> seed_pixels_;       ///< followFromSeed()'s line
   std::vector<Eigen::Vector3f> seed_points_;
   std::vector<float> seed_heights_;  ///< roadAround()'s heights
-  /// longestRidgeStroke()'s buffers: a row's grey and its prefix sums, the ridges found (input pixels,
-  /// their road coordinates and stroke), each stroke's last ridge, forward extent and rows
+  /// longestRidgeStroke()'s buffers: a row's grey, its prefix sums and the columns kept for the
+  /// exact test, the ridges found (input pixels, their road coordinates and stroke), each
+  /// stroke's last ridge, forward extent and rows
   std::vector<uint8_t> row_grey_;
   std::vector<int> row_sums_;
+  std::vector<uint8_t> row_kept_;
   struct Ridge {
     cv::Point2f pixel;
     Eigen::Vector2d road;

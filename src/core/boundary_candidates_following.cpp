@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "rgbd_lane_detector/geometry.h"
@@ -78,6 +79,14 @@ constexpr double kDashFlank = 0.15;
 // kMaxSeedHeading of the road's direction and kDashSlack of lateral play (a pixel's rounding)
 constexpr double kDashLink = 0.5;
 constexpr double kDashSlack = 0.05;
+// m of road between the rows scanned for ridges: a quarter of a link, so that a stroke bridges
+// up to three rows without a ridge (dappled paint), a dash (2-10 m, kLoneDashMin) gets 16 rows
+// or more, and the wobble of a sunlit strip between leaf shadows (decimetres to a metre across)
+// is sampled several times per period. Near the car the image rows are a few millimetres of
+// road apart (0.3 cm at 3 m on a 1080p camera) and span the widest columns: scanning each of
+// them found the same ridges many times over (the scan cost 3 ms per side on a 1080p frame).
+// Farther, where the rows are coarser than this, every row is scanned.
+constexpr double kDashRowStep = kDashLink / 4;
 // m: a lone dash, followed across no gap, is 2-10 m of road: lane-line dashes are 3-6 m of
 // paint (issue 26; the rows at either end add up to a row's road, half a metre at 30 m); a
 // shorter stroke is a marking's fragment, a longer one no dash (a line the templates find)
@@ -87,6 +96,31 @@ constexpr double kLoneDashMax = 10.0;
 // line on the road (and half a pixel's rounding); a strip of sunlight between the shadows of
 // leaves wobbles by several centimetres
 constexpr double kDashWobble = 0.02;
+
+// The first index from @p i on (up to @p n) whose flag is set in @p flags, which has
+// kFlagBlock zero bytes past @p n: a block of flags at a time (most are clear).
+constexpr int kFlagBlock = 8;
+int nextFlag(const uint8_t* flags, int i, int n) {
+  for (uint64_t block = 0; i < n; i += kFlagBlock) {
+    std::memcpy(&block, flags + i, kFlagBlock);
+    if (block != 0) break;
+  }
+  while (i < n && flags[i] == 0) ++i;
+  return std::min(i, n);
+}
+
+// @p sums[i]: the sum of @p grey[0 .. i - 1], for i = 0 .. n (four at a time: one add each).
+void prefixSums(const uint8_t* grey, int n, int* sums) {
+  int acc = 0, i = 0;
+  *sums++ = 0;
+  for (; i + 4 <= n; i += 4, grey += 4, sums += 4) {
+    sums[0] = acc += grey[0];
+    sums[1] = acc += grey[1];
+    sums[2] = acc += grey[2];
+    sums[3] = acc += grey[3];
+  }
+  for (; i < n; ++i) *sums++ = acc += *grey++;
+}
 
 // Road-plane coordinates (forward, lateral left) of the input pixel (u, v): its ray met with the
 // road plane of @p f in @p frame; false where the ray does not meet the road ahead.
@@ -670,9 +704,12 @@ bool BoundaryCandidateFinder::longestRidgeStroke(const CandidateFrame& f, int si
   live_.clear();
   const int v0 = std::max(in.grey_rows.start, 0);
   const int v1 = std::min(in.grey_rows.end, f.input_size.height);
+  double scanned = -std::numeric_limits<double>::infinity();  // the last scanned row's distance
   for (int v = v1 - 1; v >= v0; --v) {  // near to far
     double fc = 0.0, ppm = 0.0;
-    if (!in.roadAt(f.K.cx, v, fc, ppm) || fc < kPriorNear || fc > kPriorFar) continue;
+    if (!in.roadAt(f.K.cx, v, fc, ppm) || fc < kPriorNear || fc > kPriorFar ||
+        fc - scanned < kDashRowStep)
+      continue;
     // the strokes a ridge of this row can continue (those ended farther behind are done; with
     // a quarter of the distance's margin: across a row of a rolled road the forward distance
     // changes by several percent per degree of roll)
@@ -696,23 +733,47 @@ bool BoundaryCandidateFinder::longestRidgeStroke(const CandidateFrame& f, int si
     const int hi = std::min(static_cast<int>(std::ceil(std::max(ua, ub))),
                             f.input_size.width - 1 - reach);
     if (lo > hi) continue;
+    scanned = fc;
     // the row's grey prefix sums from lo - reach
     const int first = lo - reach, n = hi + reach - first + 1;
     row_grey_.resize(static_cast<size_t>(n));
     row.greyRun(first, n, row_grey_.data());
-    row_sums_.assign(static_cast<size_t>(n) + 1, 0);
-    for (int i = 0; i < n; ++i) row_sums_[i + 1] = row_sums_[i] + row_grey_[i];
+    row_sums_.resize(static_cast<size_t>(n) + 1);
+    prefixSums(row_grey_.data(), n, row_sums_.data());
     const auto mean = [&](int u, int count) {
       return static_cast<float>(row_sums_[u - first + count] - row_sums_[u - first]) / count;
     };
+    // the columns whose core's mean stands above the brighter flank's by a ridge's least rise
+    // (kMinContrast, and paint_contrast of the flank), on the integer sums each scaled by the
+    // other window's width (no division), less a hundredth of a grey level for the float means'
+    // rounding below: a branch-free pass the compiler vectorises, so that only the few columns
+    // it keeps are measured exactly. (In float: the sums and their products are whole numbers
+    // below 2^24 up to 4K images, so exact, and above it rounded by far less than the allowance.)
+    const int core = 2 * hw + 1, cols = hi - lo + 1;
+    const float core_f = static_cast<float>(core), fw_f = static_cast<float>(fw);
+    const float allowance = 0.01f * core_f * fw_f;
+    const float min_rise = BandProfile::kMinContrast * core_f * fw_f - allowance;
+    const float contrast = static_cast<float>(params_.paint_contrast) * core_f;
+    row_kept_.assign(static_cast<size_t>(cols) + kFlagBlock, 0);
+    const int* sums = row_sums_.data();  // column lo + i: its left flank from sums[i] on
+    uint8_t* kept = row_kept_.data();
+    for (int i = 0; i < cols; ++i) {
+      const float centre = static_cast<float>(sums[i + reach + hw + 1] - sums[i + reach - hw]);
+      const float left = static_cast<float>(sums[i + fw] - sums[i]);
+      const float right = static_cast<float>(sums[i + 2 * reach + 1] - sums[i + 2 * reach + 1 - fw]);
+      const float back = std::max(left, right);
+      kept[i] = centre * fw_f - back * core_f >= std::max(min_rise, contrast * back - allowance);
+    }
     // each run of columns whose centre stands out of both flanks (the same road either side:
     // kMaxSideStep) gives its strongest column as the row's ridge
     int best_u = -1;
     float best = 0.f;
-    for (int u = lo; u <= hi + 1; ++u) {
+    for (int i = 0; i <= cols; ++i) {
+      if (best_u < 0) i = nextFlag(kept, i, cols);  // no run open: on to the next kept column
+      const int u = lo + i;
       float ridge = 0.f;
-      if (u <= hi) {
-        const float centre = mean(u - hw, 2 * hw + 1);
+      if (i < cols && kept[i]) {
+        const float centre = mean(u - hw, core);
         const float l = mean(u - hw - gap - fw, fw), r = mean(u + hw + gap + 1, fw);
         const float back = std::max(l, r);
         const float rise = centre - back;
