@@ -475,16 +475,16 @@ TEST(BoundaryCandidateFinder, FaintLineWithoutPaintBesideIsNotFollowed) {
   }
 }
 
-// One 15 cm dash 1.8 m left of the camera, 10-15 m ahead, on a level road and nothing else (no
-// template match: every map is zero), its centre wobbling by @p wobble m (a sine of 1 m period
-// along the road): the left side's candidates after classification, traceBesidePaint() and
-// traceLoneDash().
-std::vector<BoundaryCandidate> loneDash(double wobble) {
+// One 15 cm dash 1.8 m left of the camera, @p near to @p far m ahead, on a level road and nothing
+// else (no template match: every map is zero), its centre wobbling by @p wobble m (a sine of 1 m
+// period along the road): the left side's candidates after classification, traceBesidePaint()
+// and traceLoneDash().
+std::vector<BoundaryCandidate> loneDash(double wobble, double near = 10.0, double far = 15.0) {
   test::CrossSection cs;
-  cs.colour = [wobble](double x, double z) {
+  cs.colour = [wobble, near, far](double x, double z) {
     const double centre = -1.8 + wobble * std::sin(2.0 * M_PI * z);
-    return std::fabs(x - centre) < 0.075 && z >= 10.0 && z <= 15.0 ? test::grey(220)
-                                                                     : test::grey(80);
+    return std::fabs(x - centre) < 0.075 && z >= near && z <= far ? test::grey(220)
+                                                                   : test::grey(80);
   };
   test::RenderedRoad road;
   road.render(cs);
@@ -523,11 +523,35 @@ TEST(BoundaryCandidateFinder, OneStraightDashAloneIsPaint) {
   EXPECT_EQ(painted, 1);
 }
 
+TEST(BoundaryCandidateFinder, ANearDashIsFoundOnRowsSpacedAlongTheRoad) {
+  // 4-8 m ahead the image rows are 4-16 cm of road apart: the ridge scan reads one row per
+  // 12.5 cm of road there, and the dash is still found whole, on its line
+  int painted = 0;
+  for (const BoundaryCandidate& k : loneDash(0.0, 4.0, 8.0)) {
+    if (!k.evidence.boundary || k.evidence.kind != BoundaryKind::kPaint) continue;
+    ++painted;
+    EXPECT_STREQ(k.evidence.reason, "lone dash");
+    double nearest = 1e9, farthest = 0.0;
+    for (const auto& px : k.trace.pixels) {
+      const double z = test::roadForward(px);
+      nearest = std::min(nearest, z);
+      farthest = std::max(farthest, z);
+      EXPECT_NEAR(test::kK.fx * -1.8 / z + test::kK.cx, px.x, 1.5) << "row " << px.y;
+    }
+    EXPECT_NEAR(nearest, 4.0, 0.3);
+    EXPECT_NEAR(farthest, 8.0, 0.5);
+  }
+  EXPECT_EQ(painted, 1);
+}
+
 TEST(BoundaryCandidateFinder, AWobblingStripAloneIsNoDash) {
   // the same stroke wobbling 8 cm either side (RMS 5.7 cm about its line, over the 2 cm and half
   // a pixel that paint keeps): a strip of light between shadows, no dash
-  for (const BoundaryCandidate& k : loneDash(0.08))
-    EXPECT_FALSE(k.evidence.boundary && k.evidence.kind == BoundaryKind::kPaint) << k.evidence.reason;
+  // and 4-9 m ahead, where the rows are read every 12.5 cm of road, as visibly
+  for (const double near : {10.0, 4.0})
+    for (const BoundaryCandidate& k : loneDash(0.08, near, near + 5.0))
+      EXPECT_FALSE(k.evidence.boundary && k.evidence.kind == BoundaryKind::kPaint)
+          << k.evidence.reason << " at " << near << " m";
 }
 
 }  // namespace
