@@ -193,6 +193,8 @@ class BoundaryCandidateFinder {
   bool plausibleMarkerAngle(double angle, bool left) const;
   /// road_gate: true when the surface normal at a processing pixel is known and not road-like.
   bool offRoad(const CandidateFrame& f, const cv::Point& pixel) const;
+  /// A candidate of @p side classified as a painted boundary.
+  bool hasPaintedBoundary(int side) const;
   void buildTrace(const CandidateFrame& f, const cv::Mat& R, const cv::Point& peak,
                   float peak_value, double angle, MarkerTrace& trace);
   /// 3D point of a processing-image pixel: its own, else the nearest valid depth in its box

@@ -220,6 +220,14 @@ void BoundaryCandidateFinder::classifyCandidate(const CandidateFrame& f, int sid
                            params_.max_depth);
 }
 
+bool BoundaryCandidateFinder::hasPaintedBoundary(int side) const {
+  for (int k = 0; k < counts_[side]; ++k)
+    if (candidates_[side][k].evidence.boundary &&
+        candidates_[side][k].evidence.kind == BoundaryKind::kPaint)
+      return true;
+  return false;
+}
+
 bool BoundaryCandidateFinder::paintedSideLine(const CandidateFrame& f, int side, double& a,
                                               double& b) {
   // the nearest painted line of the side where an ego boundary can be, as a straight line on the
@@ -255,12 +263,8 @@ void BoundaryCandidateFinder::traceBesidePaint(const CandidateFrame& f, cv::Mat&
   const ClassifierInput& in = classifier_input_;  // set by classify()
   for (int side = 0; side < 2; ++side) {
     // a side whose search found no painted boundary, beside one found on paint
-    bool painted = false;
-    for (int k = 0; k < counts_[side]; ++k)
-      painted |= candidates_[side][k].evidence.boundary &&
-                 candidates_[side][k].evidence.kind == BoundaryKind::kPaint;
     double a = 0.0, b = 0.0;
-    if (painted || !paintedSideLine(f, 1 - side, a, b)) continue;
+    if (hasPaintedBoundary(side) || !paintedSideLine(f, 1 - side, a, b)) continue;
     // where this side's boundary can be: a lane's width from the painted one, parallel to it,
     // and where an ego boundary can be (lateral at the vehicle, + left)
     const double sign = side == 0 ? 1.0 : -1.0;
@@ -851,11 +855,8 @@ void BoundaryCandidateFinder::traceLoneDash(const CandidateFrame& f) {
   for (int side = 0; side < 2; ++side) {
     // a side without a painted candidate, and without a tracked boundary (the lane model
     // predicts that one; a lone dash is a frame's first sight of a line)
-    bool painted = false;
-    for (int k = 0; k < counts_[side]; ++k)
-      painted |= candidates_[side][k].evidence.boundary &&
-                 candidates_[side][k].evidence.kind == BoundaryKind::kPaint;
-    if (painted || (params_.track_lanes && f.fitter != nullptr && f.fitter->tracker().valid(side)))
+    if (hasPaintedBoundary(side) ||
+        (params_.track_lanes && f.fitter != nullptr && f.fitter->tracker().valid(side)))
       continue;
     if (!longestRidgeStroke(f, side)) continue;
     // as straight as paint: the ridge rows' wobble about their line, and half a pixel's rounding

@@ -502,11 +502,11 @@ std::vector<BoundaryCandidate> loneDash(double wobble, double near = 10.0, doubl
   return std::vector<BoundaryCandidate>(c, c + n);
 }
 
-TEST(BoundaryCandidateFinder, OneStraightDashAloneIsPaint) {
-  // no seed: the dash is found by its ridge rows, followed across no gap and taken as paint on
-  // its line (x = -1.8 m, 10-15 m ahead)
+// A straight dash rendered alone @p near .. @p far m ahead: one painted candidate, a lone dash,
+// on its line (x = -1.8 m) over the dash's length
+void expectLoneDashOnItsLine(double near, double far, double near_tol, double far_tol) {
   int painted = 0;
-  for (const BoundaryCandidate& k : loneDash(0.0)) {
+  for (const BoundaryCandidate& k : loneDash(0.0, near, far)) {
     if (!k.evidence.boundary || k.evidence.kind != BoundaryKind::kPaint) continue;
     ++painted;
     EXPECT_STREQ(k.evidence.reason, "lone dash");
@@ -517,31 +517,22 @@ TEST(BoundaryCandidateFinder, OneStraightDashAloneIsPaint) {
       farthest = std::max(farthest, z);
       EXPECT_NEAR(test::kK.fx * -1.8 / z + test::kK.cx, px.x, 1.5) << "row " << px.y;
     }
-    EXPECT_NEAR(nearest, 10.0, 0.5);
-    EXPECT_NEAR(farthest, 15.0, 0.7);
+    EXPECT_NEAR(nearest, near, near_tol);
+    EXPECT_NEAR(farthest, far, far_tol);
   }
   EXPECT_EQ(painted, 1);
+}
+
+TEST(BoundaryCandidateFinder, OneStraightDashAloneIsPaint) {
+  // no seed: the dash is found by its ridge rows, followed across no gap and taken as paint on
+  // its line (x = -1.8 m, 10-15 m ahead)
+  expectLoneDashOnItsLine(10.0, 15.0, 0.5, 0.7);
 }
 
 TEST(BoundaryCandidateFinder, ANearDashIsFoundOnRowsSpacedAlongTheRoad) {
   // 4-8 m ahead the image rows are 4-16 cm of road apart: the ridge scan reads one row per
   // 12.5 cm of road there, and the dash is still found whole, on its line
-  int painted = 0;
-  for (const BoundaryCandidate& k : loneDash(0.0, 4.0, 8.0)) {
-    if (!k.evidence.boundary || k.evidence.kind != BoundaryKind::kPaint) continue;
-    ++painted;
-    EXPECT_STREQ(k.evidence.reason, "lone dash");
-    double nearest = 1e9, farthest = 0.0;
-    for (const auto& px : k.trace.pixels) {
-      const double z = test::roadForward(px);
-      nearest = std::min(nearest, z);
-      farthest = std::max(farthest, z);
-      EXPECT_NEAR(test::kK.fx * -1.8 / z + test::kK.cx, px.x, 1.5) << "row " << px.y;
-    }
-    EXPECT_NEAR(nearest, 4.0, 0.3);
-    EXPECT_NEAR(farthest, 8.0, 0.5);
-  }
-  EXPECT_EQ(painted, 1);
+  expectLoneDashOnItsLine(4.0, 8.0, 0.3, 0.5);
 }
 
 TEST(BoundaryCandidateFinder, AWobblingStripAloneIsNoDash) {
