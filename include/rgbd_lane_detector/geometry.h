@@ -1,7 +1,7 @@
 /**
  * @file geometry.h
  * @brief The core's geometry, written once: a pixel ray meeting the road plane, distances to the
- * plane, and the road-aligned frame (REP-103). Pixel rays and projection are Intrinsics::ray()
+ * plane, the road-aligned frame (REP-103), a least-squares line's sums. Pixel rays and projection are Intrinsics::ray()
  * and Intrinsics::project() (types.h).
  */
 #pragma once
@@ -22,6 +22,32 @@ inline int roundColumn(double x, int width) {
   return 2.0 * x >= width - 1 ? static_cast<int>(std::ceil(x - 0.5))
                               : static_cast<int>(std::floor(x + 0.5));
 }
+
+/**
+ * @brief The sums of a least-squares straight line y = a + b x, added point by point, and its
+ * closed-form fit. Products are taken in the points' own type (float pixel coordinates multiply
+ * as floats), sums in double.
+ */
+struct LineSums {
+  double n = 0.0, sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  template <typename T>
+  void add(T x, T y) {
+    n += 1;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  /// The line's @p a and @p b; where the spread of x (n sxx - sx^2) is at most @p min_spread,
+  /// b = 0 and a the mean of y, and false.
+  bool fit(double min_spread, double& a, double& b) const {
+    const double den = n * sxx - sx * sx;
+    const bool spread = std::fabs(den) > min_spread;
+    b = spread ? (n * sxy - sx * sy) / den : 0.0;
+    a = (sy - b * sx) / n;
+    return spread;
+  }
+};
 
 /// Signed distance of a point to a plane (positive on the camera side).
 inline double planeDistance(const PlaneEstimate& plane, const Eigen::Vector3d& p) {

@@ -839,14 +839,13 @@ double BoundaryCandidateFinder::lateralWobble(const CandidateFrame& f,
     if (roadCoordinates(f, classifier_input_.frame, px.x, px.y, r)) q.push_back(r);
   }
   if (q.size() < 3) return std::numeric_limits<double>::infinity();
-  double s1 = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (const auto& r : q) s1 += 1, sx += r.x(), sy += r.y(), sxx += r.x() * r.x(), sxy += r.x() * r.y();
-  const double den = s1 * sxx - sx * sx;
-  if (!(std::fabs(den) > 1e-12)) return std::numeric_limits<double>::infinity();
-  const double b = (s1 * sxy - sx * sy) / den, a = (sy - b * sx) / s1;
+  LineSums sums;
+  for (const auto& r : q) sums.add(r.x(), r.y());
+  double a = 0.0, b = 0.0;
+  if (!sums.fit(1e-12, a, b)) return std::numeric_limits<double>::infinity();
   double ss = 0.0;
   for (const auto& r : q) ss += (r.y() - a - b * r.x()) * (r.y() - a - b * r.x());
-  return std::sqrt(ss / s1);
+  return std::sqrt(ss / sums.n);
 }
 
 void BoundaryCandidateFinder::traceLoneDash(const CandidateFrame& f) {

@@ -94,11 +94,9 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
   // the straight line u(v) through the trace: where nothing has been found beyond it yet
   double ta = 0.0, tb = 0.0;
   {
-    double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
-    for (const auto& c : pixels) s1 += 1, sv += c.y, su += c.x, svv += c.y * c.y, suv += c.x * c.y;
-    const double den = s1 * svv - sv * sv;
-    tb = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
-    ta = (su - tb * sv) / s1;
+    LineSums sums;
+    for (const auto& c : pixels) sums.add(c.y, c.x);
+    sums.fit(1e-9, ta, tb);
   }
   // forward distance of a road pixel, and pixels per metre across the road there
   auto road = [&](double u, int v, double& f, double& ppm) {
@@ -133,17 +131,14 @@ int LineFollower::followRows(const ClassifierInput& in, std::vector<cv::Point2f>
           const bool all = steering < 2;
           size_t last = out.size() - 1;
           while (!all && !follow_steers_[last]) --last;
-          double s1 = 0, sv = 0, su = 0, svv = 0, suv = 0;
+          LineSums sums;
           // the steering rows within kFollowFit of the last one
           for (size_t i = last + 1; i-- > 0;) {
             if (!all && !follow_steers_[i]) continue;
-            if (s1 >= 2 && std::fabs(follow_f_[i] - follow_f_[last]) > kFollowFit) break;
-            s1 += 1, sv += out[i].y, su += out[i].x, svv += out[i].y * out[i].y,
-                suv += out[i].x * out[i].y;
+            if (sums.n >= 2 && std::fabs(follow_f_[i] - follow_f_[last]) > kFollowFit) break;
+            sums.add(out[i].y, out[i].x);
           }
-          const double den = s1 * svv - sv * sv;
-          fit_b = std::fabs(den) > 1e-9 ? (s1 * suv - sv * su) / den : 0.0;
-          fit_a = (su - fit_b * sv) / s1;
+          sums.fit(1e-9, fit_a, fit_b);
           fit_rows = out.size();
         }
         u = fit_a + fit_b * v;
