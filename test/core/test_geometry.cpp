@@ -153,3 +153,44 @@ TEST(RoadFrame, InvalidWithoutAPlaneOrLookingStraightDown) {
   EXPECT_FALSE(rld::RoadFrame::fromPlane(down).valid());
   EXPECT_TRUE(rld::RoadFrame().roadFromCamera().isApprox(Eigen::Isometry3d::Identity()));
 }
+
+TEST(LineSums, FitsTheLineThroughItsPointsExactly) {
+  // y = 2 + 0.5 x at x = -1, 0, 3, 6: sums of small binary fractions, exact in double
+  rld::LineSums sums;
+  for (double x : {-1.0, 0.0, 3.0, 6.0}) sums.add(x, 2.0 + 0.5 * x);
+  double a = 0.0, b = 0.0;
+  ASSERT_TRUE(sums.fit(1e-9, a, b));
+  EXPECT_DOUBLE_EQ(b, 0.5);
+  EXPECT_DOUBLE_EQ(a, 2.0);
+  EXPECT_DOUBLE_EQ(sums.n, 4.0);
+}
+
+TEST(LineSums, LeastSquaresThroughScatteredPoints) {
+  // (0,0), (1,1), (2,1), (3,3): slope (4*12 - 6*5) / (4*14 - 6^2) = 0.9, a = (5 - 0.9*6) / 4
+  rld::LineSums sums;
+  const double pts[4][2] = {{0, 0}, {1, 1}, {2, 1}, {3, 3}};
+  for (const auto& p : pts) sums.add(p[0], p[1]);
+  double a = 0.0, b = 0.0;
+  ASSERT_TRUE(sums.fit(1e-9, a, b));
+  EXPECT_NEAR(b, 0.9, 1e-12);
+  EXPECT_NEAR(a, -0.1, 1e-12);
+}
+
+TEST(LineSums, NoSpreadInXGivesTheMeanAndFalse) {
+  // every point on one x (a vertical line): no slope; a is the mean y
+  rld::LineSums sums;
+  for (double y : {1.0, 2.0, 6.0}) sums.add(4.0, y);
+  double a = -1.0, b = -1.0;
+  EXPECT_FALSE(sums.fit(1e-9, a, b));
+  EXPECT_EQ(b, 0.0);
+  EXPECT_DOUBLE_EQ(a, 3.0);
+}
+
+TEST(LineSums, FloatPointsMultiplyAsFloats) {
+  // the products of float coordinates are float products (as the pixel fits always took them)
+  rld::LineSums sums;
+  const float x = 1.1f;
+  sums.add(x, x);
+  EXPECT_EQ(sums.sxx, static_cast<double>(x * x));
+  EXPECT_EQ(sums.sx, static_cast<double>(x));
+}
