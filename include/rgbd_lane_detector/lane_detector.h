@@ -137,8 +137,11 @@ class LaneDetector {
   void computeResponses();
   /// 3. Normals and G, everywhere or (@p mask) only where G enters R.
   void computeGeometric(const cv::Mat* mask);
-  /// 4. NCC matching with the templates (and the acquisition templates of the sides that acquire).
-  void matchTemplates();
+  /// 4. NCC matching with the templates (and the acquisition templates of the sides that acquire);
+  /// @p mark: the first pass of maskFusion() with the scores (NccMatcher::Mark).
+  void matchTemplates(bool mark = false);
+  /// plane_gate acts this frame (gateByPlane(), gatedFusionMask()).
+  bool planeGate() const;
   /// plane_gate: matches off the previous frame's plane removed (applyPlaneGate()).
   void gateByPlane();
   /// Where G enters R (fusionMask()); @p gate: gateByPlane() in the same pass (gatedFusionMask()).
@@ -206,6 +209,7 @@ class LaneDetector {
   cv::Mat geometric_;
   bool full_geometric_ = false;  ///< setFullGeometricMap()
   cv::Mat fusion_mask_;          ///< where G enters R (fusionMask())
+  NccMatcher::Mark fusion_mark_;  ///< matchTemplates()'s first pass of fusion_mask_
   cv::Mat response_left_, response_right_;
   StageTimings timings_;
 

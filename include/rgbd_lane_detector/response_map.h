@@ -79,10 +79,12 @@ void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const c
  * @param[in,out] maps @p count (1 to 4) CV_32FC1 maps, pairs (left, right) in turn; an odd last
  *            map is gated alone (as paired with itself).
  * @param[in] tau_g,rows,mask fusionMask()'s.
+ * @param[in] marked @p mask holds already where any map is at min(tau, tau_g) or above over the
+ *            rows (NccMatcher::Mark): that pass over the maps is not made again.
  */
 void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float max_off, float tau,
                      cv::Mat* const* maps, int count, float tau_g, const cv::Range& rows,
-                     cv::Mat& mask);
+                     cv::Mat& mask, bool marked = false);
 
 /**
  * @brief fuseResponse() in place on maps whose fusionMask() is @p mask: R differs from M only

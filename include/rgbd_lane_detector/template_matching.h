@@ -49,6 +49,16 @@ class NccMatcher {
   /// The most templates one match() pass scores.
   static constexpr int kMaxTemplates = 4;
 
+  /// Where any map of a match() scores at least @p level: fusionMask() of the maps at that
+  /// level over the region's rows, marked while the scores are in registers (the detector's
+  /// fusion mask without a pass over its maps).
+  struct Mark {
+    float level = 1.f;  ///< above 0 (0, the score outside the scored positions, is below it)
+    cv::Mat* mask = nullptr;  ///< CV_8UC1 of the image's size (allocated when it is not)
+    bool marked = false;      ///< set by match(): false on the reference path, a small region
+                              ///< or a level of 0 or below (the mask is then not written)
+  };
+
   /**
    * @brief Match 1 to kMaxTemplates templates of equal size in one pass: the integral images,
    * the window mean and energy are computed once for all of them, and templates of the same
@@ -57,10 +67,11 @@ class NccMatcher {
    * @param[in] image,region as above.
    * @param[in] templates @p count templates of equal size.
    * @param[out] responses @p count CV_32FC1 image-sized score maps (distinct).
+   * @param[in,out] mark optional: also the mask of the scores at or above a level.
    * @return false when the region is smaller than the template (outputs are all 0).
    */
   bool match(const cv::Mat& image, const cv::Rect& region, const LineTemplate* const* templates,
-             cv::Mat* const* responses, int count);
+             cv::Mat* const* responses, int count, Mark* mark = nullptr);
 
  private:
   /// One lookup of a compiled template: +/- table(y + dy, x + dx).

@@ -239,9 +239,9 @@ void LaneDetector::computeResponses() {
     // (each timing is then its own stage's, and they overlap)
     runPair([this] { computeGeometric(nullptr); }, [this] { matchTemplates(); });
   } else {
-    matchTemplates();
+    matchTemplates(true);
   }
-  const bool gate = params_.plane_gate > 0.0 && fitter_.previousPlane().valid;
+  const bool gate = planeGate();
   if (gate && full_geometric_) gateByPlane();
   if (!full_geometric_) {
     // R needs G only where M >= tau_G (about 1% of the pixels of a road): G there only, which
@@ -263,7 +263,7 @@ void LaneDetector::computeGeometric(const cv::Mat* mask) {
     fals_.computeGeometric(points_, roi_rows_, params_, geometric_);
 }
 
-void LaneDetector::matchTemplates() {
+void LaneDetector::matchTemplates(bool mark) {
   // 4. matching, with the acquisition templates too for the sides that acquire: one pass (the
   // window sums shared), each map as its template alone gives it
   const StageTimer timer(timings_.matching);
@@ -271,7 +271,22 @@ void LaneDetector::matchTemplates() {
   int n = 2;
   if (acquiring_[0]) templates[n++] = &acquisition_left_;
   if (acquiring_[1]) templates[n++] = &acquisition_right_;
-  matcher_.match(half_binary_, roi_, templates, matchMaps(), n);
+  // the fusion mask's pass over the maps (maskFusion()) made while they are scored: where a map
+  // reaches the lowest level the gate or the mask acts at
+  fusion_mark_ = NccMatcher::Mark();
+  const Params& p = params_;
+  const float tau_g = static_cast<float>(p.tau_g);
+  fusion_mark_.level =
+      planeGate()
+          ? std::min(static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold})),
+                     tau_g)
+          : tau_g;
+  fusion_mark_.mask = &fusion_mask_;
+  matcher_.match(half_binary_, roi_, templates, matchMaps(), n, mark ? &fusion_mark_ : nullptr);
+}
+
+bool LaneDetector::planeGate() const {
+  return params_.plane_gate > 0.0 && fitter_.previousPlane().valid;
 }
 
 void LaneDetector::gateByPlane() {
@@ -297,9 +312,11 @@ void LaneDetector::maskFusion(bool gate) {
     const Params& p = params_;
     const float low = static_cast<float>(std::min({p.tau_g, p.trace_threshold, p.pca_threshold}));
     gatedFusionMask(points_, fitter_.previousPlane(), static_cast<float>(p.plane_gate), low,
-                    matchMaps(), matchMapCount(), tau, roi_rows_, fusion_mask_);
+                    matchMaps(), matchMapCount(), tau, roi_rows_, fusion_mask_,
+                    fusion_mark_.marked);
     return;
   }
+  if (fusion_mark_.marked) return;  // (the mark at tau_G is the mask)
   cv::Mat* const* maps = matchMaps();
   switch (matchMapCount()) {
     case 2:

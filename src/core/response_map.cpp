@@ -190,7 +190,7 @@ void fusionMask(std::initializer_list<const cv::Mat*> maps, float tau_g, const c
 
 void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float max_off, float tau,
                      cv::Mat* const* maps, int count, float tau_g, const cv::Range& rows,
-                     cv::Mat& mask) {
+                     cv::Mat& mask, bool marked) {
   CV_Assert(count > 0 && count <= kMaxFusedMaps);
   const cv::Size size = maps[0]->size();
   for (int i = 0; i < count; ++i) CV_Assert(maps[i]->type() == CV_32FC1 && maps[i]->size() == size);
@@ -211,7 +211,7 @@ void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float ma
     const float* q = points.ptr<float>(y);
     uint8_t* out = mask.ptr<uint8_t>(y);
     // 255 where any map is at min(tau, tau_g) or above: only there can the gate or the mask act
-    int x = RLD_DISPATCH(maskRow)(row, count, low, w, out);
+    int x = marked ? w : RLD_DISPATCH(maskRow)(row, count, low, w, out);
     for (; x < w; ++x) {
       bool any = false;
       for (int i = 0; i < count; ++i) any = any || row[i][x] >= low;

@@ -66,6 +66,8 @@ struct ScoreRow {
   int count[NccMatcher::kMaxTemplates];  ///< line pixels of each template
   float k[NccMatcher::kMaxTemplates];    ///< 1 / (area |T - mean T|), T in {0, 1}
   float* out[NccMatcher::kMaxTemplates];
+  uint8_t* mark;  ///< optional: 255 where a score is at least level, else 0
+  float level;
 };
 
 constexpr float kInfF = std::numeric_limits<float>::infinity();
@@ -85,12 +87,15 @@ inline void scorePixel(const ScoreRow& r, int x) {
   const bool keep = diff2 > std::min(0.5, 10 * FLT_EPSILON * sum2);
   // 1 / sqrt(inf) = 0: flat windows score 0
   const float inv_sd = 1.f / std::sqrt(keep ? static_cast<float>(diff2) : kInfF);
+  bool above = false;
   for (int k = 0; k < r.templates; ++k) {
     const int64_t N = static_cast<int64_t>(r.area) * static_cast<int32_t>(r.acc[k][x]) -
                       static_cast<int64_t>(r.count[k]) * S;
     const float v = static_cast<float>(N) * (inv_sd * r.k[k]);
     r.out[k][x] = v > 0.f ? std::min(v, 1.f) : 0.f;  // +0 below (never -0: same bits everywhere)
+    above = above || r.out[k][x] >= r.level;
   }
+  if (r.mark) r.mark[x] = above ? 255 : 0;
 }
 
 }  // namespace
@@ -224,11 +229,13 @@ int scoreRowT(const ScoreRow& r, int n) {
   const hn::Half<decltype(d32)> d32h;
   const hn::Half<decltype(df)> dfh;
   const hn::Rebind<double, decltype(d32h)> dd;
+  const hn::Rebind<int8_t, decltype(d32)> d8;
   const int N = static_cast<int>(hn::Lanes(d32));
   const auto inv_area = hn::Set(dd, r.inv_area), eps = hn::Set(dd, 10 * FLT_EPSILON),
              half = hn::Set(dd, 0.5), inf_d = hn::Set(dd, std::numeric_limits<double>::infinity()),
              two32 = hn::Set(dd, 4294967296.0), zero_d = hn::Zero(dd);
-  const auto f_one = hn::Set(df, 1.f), f_zero = hn::Zero(df);
+  const auto f_one = hn::Set(df, 1.f), f_zero = hn::Zero(df), level = hn::Set(df, r.level);
+  int8_t* const mark = reinterpret_cast<int8_t*>(r.mark);
   const uint32_t* const top = r.top;
   const uint32_t* const bottom = r.bottom;
   const uint32_t* const top_sq = r.top_sq;
@@ -256,6 +263,7 @@ int scoreRowT(const ScoreRow& r, int n) {
     if (hn::AllTrue(d32, hn::Eq(S, hn::Zero(d32)))) {
       for (int k = 0; k < kT; ++k)
         hn::StoreU(f_zero, df, out[k] + x);  // windows of zeros are flat
+      if (mark) hn::StoreU(hn::Zero(d8), d8, mark + x);
       continue;
     }
     const auto Q = hn::Sub(hn::Sub(ld(bottom_sq + s + x), ld(bottom_sq + x)),
@@ -272,6 +280,7 @@ int scoreRowT(const ScoreRow& r, int n) {
       d_f[h] = hn::DemoteTo(dfh, hn::IfThenElse(keep, diff2, inf_d));
     }
     const auto inv_sd = hn::Div(f_one, hn::Sqrt(hn::Combine(df, d_f[1], d_f[0])));
+    auto above = hn::FirstN(df, 0);
     for (int k = 0; k < kT; ++k) {
       hn::Vec<decltype(df)> num;
       if (kWide) {
@@ -285,8 +294,12 @@ int scoreRowT(const ScoreRow& r, int n) {
                                         hn::Mul(hn::Set(d32, count[k]), S)));
       }
       const auto v = hn::Mul(num, hn::Mul(inv_sd, hn::Set(df, k_t[k])));
-      hn::StoreU(hn::IfThenElseZero(hn::Gt(v, f_zero), hn::Min(v, f_one)), df, out[k] + x);
+      const auto score = hn::IfThenElseZero(hn::Gt(v, f_zero), hn::Min(v, f_one));
+      hn::StoreU(score, df, out[k] + x);
+      above = hn::Or(above, hn::Ge(score, level));
     }
+    if (mark)  // (all-ones lanes, -1, narrow to the byte 255)
+      hn::StoreU(hn::DemoteTo(d8, hn::BitCast(d32, hn::VecFromMask(df, above))), d8, mark + x);
   }
   return x;
 }
@@ -386,11 +399,12 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in, const Li
 
 bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in,
                        const LineTemplate* const* templates, cv::Mat* const* responses,
-                       int count) {
+                       int count, Mark* mark) {
   CV_Assert(image.type() == CV_8UC1 && count >= 1 && count <= kMaxTemplates);
   const int s = templates[0]->size;
   for (int k = 1; k < count; ++k) CV_Assert(templates[k]->size == s);
   const cv::Rect region = region_in & cv::Rect(0, 0, image.cols, image.rows);
+  if (mark) mark->marked = false;
   if (referenceStages()) {
     for (int k = 0; k < count; ++k)
       matchTemplateReference(image, region_in, *templates[k], *responses[k]);
@@ -422,6 +436,17 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in,
     zero(R, cv::Rect(0, y0 + oh, image.cols, rb - y0 - oh));
     zero(R, cv::Rect(0, y0, x0, oh));
     zero(R, cv::Rect(x0 + ow, y0, image.cols - x0 - ow, oh));
+  }
+  // the mark: over the region's rows, 0 where no score is written (0 is below the level)
+  cv::Mat* const mask = mark && mark->level > 0.f ? mark->mask : nullptr;
+  if (mask) {
+    if (mask->size() != image.size() || mask->type() != CV_8UC1)
+      mask->create(image.size(), CV_8UC1);
+    zero(*mask, cv::Rect(0, region.y, image.cols, y0 - region.y));
+    zero(*mask, cv::Rect(0, y0 + oh, image.cols, rb - y0 - oh));
+    zero(*mask, cv::Rect(0, y0, x0, oh));
+    zero(*mask, cv::Rect(x0 + ow, y0, image.cols - x0 - ow, oh));
+    mark->marked = true;
   }
 
   // the templates' terms; one running-sum table per distinct slope
@@ -471,6 +496,8 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in,
   sr.s = s;
   sr.area = area;
   sr.inv_area = inv_area;
+  sr.mark = nullptr;
+  sr.level = mask ? mark->level : 1.f;
   for (int k = 0; k < count; ++k) {
     // sum (T - mean T)^2 for a binary template, in units where T is 1 on the line; an empty or
     // full template has no defined correlation and scores 0
@@ -547,6 +574,7 @@ bool NccMatcher::match(const cv::Mat& image, const cv::Rect& region_in,
     sr.top_sq = integral_sq_.ptr<uint32_t>(y % ring_);
     sr.bottom_sq = integral_sq_.ptr<uint32_t>((y + s) % ring_);
     for (int k = 0; k < count; ++k) sr.out[k] = responses[k]->ptr<float>(y0 + y) + x0;
+    if (mask) sr.mark = mask->ptr<uint8_t>(y0 + y) + x0;
     scoreRow(sr, ow);
   }
   return true;

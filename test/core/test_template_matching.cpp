@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "rgbd_lane_detector/half_binary.h"
+#include "rgbd_lane_detector/response_map.h"
 #include "rgbd_lane_detector/template_matching.h"
 #include "simd.h"
 #include "synthetic_scene.h"
@@ -291,6 +292,69 @@ TEST(NccMatcher, OnePassOfFourTemplatesEqualsEachTemplateAlone) {
     }
   }
   simd::forceTarget(simd::kBest);
+}
+
+// The mark of a pass is fusionMask() of its maps at the level over the region's rows, on every
+// target, for two and four templates; the other rows are not written, and without a mask to
+// trust (the reference path, a level of 0) none is marked.
+TEST(NccMatcher, MarkIsTheFusionMaskOfTheMaps) {
+  cv::RNG rng(7);
+  cv::Mat img(140, 230, CV_8UC1, cv::Scalar(0));
+  cv::line(img, cv::Point(30, 139), cv::Point(100, 20), cv::Scalar(210), 7);
+  cv::line(img, cv::Point(200, 139), cv::Point(150, 10), cv::Scalar(180), 5);
+  for (int i = 0; i < 60; ++i)
+    img.at<uint8_t>(rng.uniform(0, 140), rng.uniform(0, 230)) =
+        static_cast<uint8_t>(rng.uniform(1, 256));
+  LineTemplate t[4];
+  makeLineTemplate(32, 10, 3 * M_PI / 4 + 0.12, t[0]);
+  makeLineTemplate(32, 10, M_PI / 4, t[1]);
+  makeLineTemplate(32, 10, defaultLeftAngle(70.0), t[2]);
+  makeLineTemplate(32, 10, defaultRightAngle(70.0), t[3]);
+  const LineTemplate* all[4] = {&t[0], &t[1], &t[2], &t[3]};
+  const cv::Rect region(0, 5, 230, 130);  // the detector's: whole rows
+  const cv::Range rows(region.y, region.br().y);
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (int count : {2, 4}) {
+      for (float level : {0.2f, 0.3f}) {
+        SCOPED_TRACE(testing::Message() << simd::targetName(target) << ", " << count
+                                        << " templates, level " << level);
+        NccMatcher matcher;
+        cv::Mat m[4], mask(img.size(), CV_8UC1, cv::Scalar(77)), expected;
+        cv::Mat* maps[4] = {&m[0], &m[1], &m[2], &m[3]};
+        NccMatcher::Mark mark;
+        mark.level = level;
+        mark.mask = &mask;
+        ASSERT_TRUE(matcher.match(img, region, all, maps, count, &mark));
+        EXPECT_TRUE(mark.marked);
+        if (count == 2)
+          fusionMask({&m[0], &m[1]}, level, rows, expected);
+        else
+          fusionMask({&m[0], &m[1], &m[2], &m[3]}, level, rows, expected);
+        EXPECT_GT(cv::countNonZero(expected(cv::Rect(0, rows.start, img.cols, rows.size()))), 0);
+        for (int y = 0; y < img.rows; ++y) {
+          const bool inside = y >= rows.start && y < rows.end;
+          for (int x = 0; x < img.cols; ++x)
+            ASSERT_EQ(mask.at<uint8_t>(y, x), inside ? expected.at<uint8_t>(y, x) : 77)
+                << "at " << x << ", " << y;
+        }
+      }
+    }
+  }
+  simd::forceTarget(simd::kBest);
+  NccMatcher matcher;
+  cv::Mat m[2], mask;
+  cv::Mat* maps[2] = {&m[0], &m[1]};
+  NccMatcher::Mark mark;
+  mark.mask = &mask;
+  mark.level = 0.f;
+  matcher.match(img, region, all, maps, 2, &mark);
+  EXPECT_FALSE(mark.marked);
+  mark.level = 0.5f;
+  setReferenceStages(true);
+  matcher.match(img, region, all, maps, 2, &mark);
+  setReferenceStages(false);
+  EXPECT_FALSE(mark.marked);
 }
 
 }  // namespace
