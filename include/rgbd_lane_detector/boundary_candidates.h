@@ -178,8 +178,10 @@ class BoundaryCandidateFinder {
   double tracingMs() const { return tracing_ms_; }
 
  private:
-  /// Zero R around a seed for the next seed search (restore_ keeps the values).
-  void excludeBox(const CandidateFrame& f, cv::Mat& R, const cv::Point& centre);
+  /// Zero R around a seed for the next seed search (restore_ keeps the values); @p previous,
+  /// the box zeroed just before (0 already, not read again), becomes this one.
+  void excludeBox(const CandidateFrame& f, cv::Mat& R, const cv::Point& centre,
+                  cv::Rect& previous);
   /// excludeBox() along a traced line and its seed.
   void excludeTrace(const CandidateFrame& f, cv::Mat& R, const MarkerTrace& trace,
                     const cv::Point& peak);

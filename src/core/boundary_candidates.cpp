@@ -142,27 +142,40 @@ void BoundaryCandidateFinder::traceLines(const CandidateFrame& f, int side, cv::
 }
 
 void BoundaryCandidateFinder::excludeBox(const CandidateFrame& f, cv::Mat& R,
-                                         const cv::Point& centre) {
+                                         const cv::Point& centre, cv::Rect& previous) {
   const int h = std::max(1, params_.template_size / 4);
   const cv::Rect box = cv::Rect(centre.x - h, centre.y - h, 2 * h + 1, 2 * h + 1) & f.roi;
   for (int y = box.y; y < box.y + box.height; ++y) {
     float* r = R.ptr<float>(y);
-    for (int x = box.x; x < box.x + box.width; ++x) {
-      if (r[x] == 0.f) continue;
-      restore_.emplace_back(r + x, r[x]);
-      r[x] = 0.f;
+    auto clear = [&](int x0, int x1) {
+      for (int x = x0; x < x1; ++x) {
+        if (r[x] == 0.f) continue;
+        restore_.emplace_back(r + x, r[x]);
+        r[x] = 0.f;
+      }
+    };
+    // a traced line's boxes overlap the one before (its input pixels a row apart): that part
+    // is 0 already, only the columns either side of it are read
+    if (y >= previous.y && y < previous.br().y) {
+      clear(box.x, std::min(box.br().x, previous.x));
+      clear(std::max(box.x, previous.br().x), box.br().x);
+    } else {
+      clear(box.x, box.br().x);
     }
   }
+  previous = box;
 }
 
 void BoundaryCandidateFinder::excludeTrace(const CandidateFrame& f, cv::Mat& R,
                                            const MarkerTrace& trace, const cv::Point& peak) {
   // boxes along the traced line (processing pixels), so that the next seed is another line
-  if (peak.x >= 0) excludeBox(f, R, peak);
+  cv::Rect previous;
+  if (peak.x >= 0) excludeBox(f, R, peak, previous);
   for (const auto& c : trace.pixels) {
     const cv::Point2d q = f.toProcessing(c);
     excludeBox(f, R,
-               cv::Point(roundColumn(q.x, f.proc_size.width), static_cast<int>(std::lround(q.y))));
+               cv::Point(roundColumn(q.x, f.proc_size.width), static_cast<int>(std::lround(q.y))),
+               previous);
   }
 }
 
