@@ -108,4 +108,10 @@ void fuseResponseMasked(cv::Mat* const* maps, int count, const cv::Mat& G, float
  */
 void maxLocation(const cv::Mat& R, double& max_value, cv::Point& max_location);
 
+/**
+ * @brief The maximum of @p n > 0 floats (no NaN) and its first column, vectorised (a row of
+ * maxLocation()).
+ */
+void rowMaximum(const float* r, int n, float& value, int& column);
+
 }  // namespace rgbd_lane_detector

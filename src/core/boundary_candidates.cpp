@@ -203,13 +203,19 @@ void BoundaryCandidateFinder::findBestMatch(const CandidateFrame& f, const cv::M
       const int lo = band_lo_[y], hi = band_hi_[y];
       if (lo > hi) continue;
       const float* r = R.ptr<float>(y);
-      const int step = left ? -1 : 1;
-      for (int x = left ? hi : lo, n = hi - lo + 1; n > 0; x += step, --n) {
-        if (r[x] > best) {
-          best = r[x];
-          max_p = cv::Point(x, y);
-        }
-      }
+      float v = 0.f;
+      int c = 0;
+      rowMaximum(r + lo, hi - lo + 1, v, c);  // its first column
+      if (!(v > best)) continue;
+      best = v;
+      int x = lo + c;
+      if (left)  // the innermost: the last column of it
+        for (int k = hi; k > x; --k)
+          if (r[k] == v) {
+            x = k;
+            break;
+          }
+      max_p = cv::Point(x, y);
     }
     if (best > params_.trace_threshold) {
       peak = max_p;

@@ -129,22 +129,27 @@ void maxLocation(const cv::Mat& R, double& max_value, cv::Point& max_location) {
   float m = R.at<float>(0, 0);
   max_location = cv::Point(0, 0);
   for (int y = 0; y < R.rows; ++y) {
-    const float* r = R.ptr<float>(y);
     float v = 0.f;
     int c = 0;
-    int x = RLD_DISPATCH(rowArgMax)(r, R.cols, v, c);
-    if (x > 0 && v > m) {
+    rowMaximum(R.ptr<float>(y), R.cols, v, c);
+    if (v > m) {
       m = v;
       max_location = cv::Point(c, y);
     }
-    for (; x < R.cols; ++x) {
-      if (r[x] > m) {
-        m = r[x];
-        max_location = cv::Point(x, y);
-      }
-    }
   }
   max_value = m;
+}
+
+void rowMaximum(const float* r, int n, float& value, int& column) {
+  value = r[0];
+  column = 0;
+  // the whole vectors, then the rest (only a strictly greater value moves the first maximum)
+  for (int x = RLD_DISPATCH(rowArgMax)(r, n, value, column); x < n; ++x) {
+    if (r[x] > value) {
+      value = r[x];
+      column = x;
+    }
+  }
 }
 
 void fuseResponse(const cv::Mat& M, const cv::Mat& G, float tau_g, const cv::Range& rows,

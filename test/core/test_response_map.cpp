@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -208,6 +209,28 @@ TEST(ResponseMap, MaxLocationIsMinMaxLocs) {
     EXPECT_EQ(v, ref_v) << trial;
     EXPECT_EQ(p, ref_p) << trial;
   }
+}
+
+// A row's maximum and its first column, on every target, for rows shorter than a vector and
+// with ties across the vectors and the rest.
+TEST(ResponseMap, RowMaximumIsTheFirstMaximum) {
+  cv::RNG rng(6);
+  std::vector<float> row(70);
+  for (simd::Target target : simd::availableTargets()) {
+    simd::forceTarget(target);
+    for (int trial = 0; trial < 200; ++trial) {
+      const int n = 1 + trial % 70;
+      for (float& v : row) v = static_cast<float>(rng.uniform(0, 4)) * 0.25f;  // ties
+      float value = -1.f;
+      int column = -1;
+      rowMaximum(row.data(), n, value, column);
+      const int first = static_cast<int>(std::max_element(row.begin(), row.begin() + n) -
+                                         row.begin());
+      EXPECT_EQ(value, row[first]) << simd::targetName(target) << " " << trial;
+      EXPECT_EQ(column, first) << simd::targetName(target) << " " << trial;
+    }
+  }
+  simd::forceTarget(simd::kBest);
 }
 
 }  // namespace
