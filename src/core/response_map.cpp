@@ -91,6 +91,31 @@ int rowArgMaxScalar(const float*, int, float&, int&) {
 int maskRowScalar(const float* const*, int, float, int, uint8_t*) {
   return 0;
 }
+
+// fn(x) at each nonzero byte x of m[0, w), in order (fn may zero m[x]): 32 bytes at a time past
+// the zeros (most of a fusion mask), then 8.
+template <typename F>
+void forEachMarked(const uint8_t* m, int w, F&& fn) {
+  auto word = [m](int x) {
+    uint64_t v;
+    std::memcpy(&v, m + x, sizeof(v));
+    return v;
+  };
+  auto bytes = [&](int x0, int x1) {
+    for (int j = x0; j < x1; ++j)
+      if (m[j]) fn(j);
+  };
+  auto words = [&](int x0, int x1) {  // (x1 - x0 a multiple of 8)
+    for (int k = x0; k < x1; k += 8)
+      if (word(k) != 0) bytes(k, k + 8);
+  };
+  int x = 0;
+  for (; x + 32 <= w; x += 32)
+    if ((word(x) | word(x + 8) | word(x + 16) | word(x + 24)) != 0) words(x, x + 32);
+  const int x8 = x + (w - x) / 8 * 8;
+  words(x, x8);
+  bytes(x8, w);
+}
 }  // namespace
 
 #ifdef RLD_HAVE_HWY
@@ -234,15 +259,7 @@ void gatedFusionMask(const cv::Mat& points, const PlaneEstimate& plane, float ma
       for (int k = 0; k < count; ++k) any = any || row[k][j] >= tau_g;
       out[j] = any ? 255 : 0;
     };
-    for (x = 0; x + 8 <= w; x += 8) {  // 8 mask bytes at a time: most are 0
-      uint64_t word;
-      std::memcpy(&word, out + x, sizeof(word));
-      if (word == 0) continue;
-      for (int j = x; j < x + 8; ++j)
-        if (out[j]) gateAndMask(j);
-    }
-    for (; x < w; ++x)
-      if (out[x]) gateAndMask(x);
+    forEachMarked(out, w, gateAndMask);
   }
 }
 
@@ -262,16 +279,7 @@ void fuseResponseMasked(cv::Mat* const* maps, int count, const cv::Mat& G, float
     auto fuse = [&](int x) {
       for (int k = 0; k < count; ++k) row[k][x] = fusedValue(row[k][x], g[x], tau_g);
     };
-    int x = 0;
-    for (; x + 8 <= w; x += 8) {  // 8 mask bytes at a time: most are 0
-      uint64_t word;
-      std::memcpy(&word, mk + x, sizeof(word));
-      if (word == 0) continue;
-      for (int j = x; j < x + 8; ++j)
-        if (mk[j]) fuse(j);
-    }
-    for (; x < w; ++x)
-      if (mk[x]) fuse(x);
+    forEachMarked(mk, w, fuse);
   }
 }
 
