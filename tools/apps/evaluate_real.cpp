@@ -497,17 +497,21 @@ int main(int argc, char** argv) {
   if (!markdown.empty()) std::ofstream(markdown) << md.str();
   if (!csv.empty()) {
     std::ofstream out(csv);
+    // (a side's style / colour: 1 the labelled one, 0 another, empty not scored)
     out << "dataset,frame,depth,variant,mode,sequence,lane,left_labelled,left_reported,left_kind,"
-           "left_fraction,left_correct,right_labelled,right_reported,right_kind,right_fraction,"
-           "right_correct,plane,plane_angle_deg,plane_offset_m,model_valid,model_left_correct,"
-           "model_right_correct,model_c0_left,model_c0_right,ms\n";
+           "left_fraction,left_correct,left_style_right,left_colour_right,right_labelled,"
+           "right_reported,right_kind,right_fraction,right_correct,right_style_right,"
+           "right_colour_right,plane,plane_angle_deg,plane_offset_m,model_valid,"
+           "model_left_correct,model_right_correct,model_c0_left,model_c0_right,ms\n";
+    const auto scored = [](int v) { return v < 0 ? std::string() : std::to_string(v); };
     for (const Row& r : rows) {
       out << r.dataset << "," << r.frame << "," << r.depth << "," << r.variant << "," << r.mode
           << "," << r.sequence << "," << r.lane;
       for (const tools::RealSideScore* s : {&r.score.left, &r.score.right})
         out << "," << s->labelled << "," << s->reported << ","
             << (s->reported ? boundaryKindName(s->reported_kind) : "") << "," << fmt(s->fraction)
-            << "," << s->correct;
+            << "," << s->correct << "," << scored(s->style_right) << ","
+            << scored(s->colour_right);
       out << "," << r.plane << "," << fmt(r.plane_angle, "%.3f") << ","
           << fmt(r.plane_offset, "%.4f") << "," << r.model_valid << "," << r.model.left.correct
           << "," << r.model.right.correct << "," << fmt(r.c0[0], "%.3f") << ","
