@@ -22,6 +22,9 @@ constexpr int kMinHeights = 3;
 constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint are not applied
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
+// a channel this bright is clipped; sunlit yellow paint clips its red and green first and then
+// reads whiter than it is (a pixel clipped in every channel is white, or as white as can be told)
+constexpr float kSaturated = 250.0f;
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
 // m of unbroken paint width: a dash, which no rail head widens to (the shortest lane-line dash
 // is 1 m, urban; a worn dash keeps its paint width over only part of its length, its rows
@@ -469,13 +472,14 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     covered += weight;
     if (!band) continue;
     // colour of the paint against the road beside it (the illumination cancels): yellow paint
-    // reflects little blue
+    // reflects little blue; pixels whose red or green alone is clipped do not count
     const ImageRow row(in, m.v);
     double pr = 0, pg = 0, pb = 0, ar = 0, ag = 0, ab = 0;
     int np = 0, na = 0;
     for (int k2 = static_cast<int>(std::ceil(band->lo)); k2 <= static_cast<int>(std::floor(band->hi)); ++k2) {
       float R, G, B;
       row.rgb(m.u0 + k2, R, G, B);
+      if (std::max(R, G) >= kSaturated && B < kSaturated) continue;
       pr += R, pg += G, pb += B, ++np;
     }
     const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
@@ -484,6 +488,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
       for (int k2 = s0; k2 <= s1 && k2 <= m.W; ++k2) {
         float R, G, B;
         row.rgb(m.u0 + dir * k2, R, G, B);
+        if (std::max(R, G) >= kSaturated && B < kSaturated) continue;
         ar += R, ag += G, ab += B, ++na;
       }
     if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;

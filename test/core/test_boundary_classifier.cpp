@@ -1,5 +1,6 @@
 // Boundary classification on rendered cross-sections of a road: paint, a rail head, a thin line
-// running into a dash, a zebra stripe, a kerb, a shadow's edge, a grass edge, a rail beside paint, an object above the road.
+// running into a dash, a zebra stripe, a kerb, a shadow's edge, a grass edge, a rail beside paint, an object above the road;
+// the paint's coverage and colour (also where the sun clips it).
 // (Following lines row by row: test_line_follower.)
 #include <cmath>
 
@@ -274,6 +275,34 @@ TEST(BoundaryClassifier, MeasurePaintTellsWhiteFromYellow) {
   f.measure(false, coverage, yellowness);
   // 1 - B'/((R' + G') / 2) of (204, 158, 36) against grey 90: 1 - 0.4 / 2.0 = 0.8
   EXPECT_NEAR(yellowness, 0.8f, 0.1f) << "yellow paint";
+}
+
+// In the sun up to 7 m ahead (a bright road, paint that clips) and in shadow beyond: a white
+// line on the left clips in every channel, a yellow one on the right in red and green only.
+CrossSection sunlitWhiteAndYellow() {
+  CrossSection cs;
+  cs.colour = [](double x, double z) {
+    const bool sun = z < 7.0;
+    if (std::fabs(x + 1.8) < 0.075) return sun ? grey(255) : grey(200);
+    if (std::fabs(x - 1.8) < 0.075) return sun ? cv::Vec3b(255, 255, 190) : cv::Vec3b(150, 120, 60);
+    return sun ? cv::Vec3b(185, 178, 170) : grey(90);
+  };
+  return cs;
+}
+
+TEST(BoundaryClassifier, MeasurePaintTellsYellowWhoseRedAndGreenClip) {
+  Fixture f;
+  float coverage = 0.f, yellowness = 0.f;
+  f.classify(sunlitWhiteAndYellow(), linePixels(1.8), false);
+  f.measure(false, coverage, yellowness);
+  // in the sun the clipped colour reads 1 - (190/170) / ((255/185 + 255/178) / 2) = 0.20 (white
+  // below yellow_threshold 0.25) on most of the rows whose band is resolved (4-7 m); in the
+  // shadow 1 - (60/90) / 1.5 = 0.56
+  EXPECT_NEAR(yellowness, 0.56f, 0.1f) << "yellow paint, red and green clipped in the sun";
+  f.classify(sunlitWhiteAndYellow(), linePixels(-1.8), true);
+  f.measure(true, coverage, yellowness);
+  EXPECT_GE(yellowness, 0.0f) << "white paint clipped in every channel still has a colour";
+  EXPECT_LT(yellowness, 0.1f) << "white paint";
 }
 
 TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashed) {
