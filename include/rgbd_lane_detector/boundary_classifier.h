@@ -185,7 +185,9 @@ class BoundaryClassifier {
    * @param[out] coverage share of the measured length with paint, -1 when less than 3 m of it
    *             could be measured.
    * @param[out] yellowness 1 - B'/((R' + G') / 2) of the paint's colour relative to the road
-   *             beside it (white about 0, yellow 0.3 and more), -1 without painted samples.
+   *             beside it (white about 0, yellow 0.3 and more; the median of its rows of paint
+   *             width, or with fewer than 3 of them also of its worn, narrower rows), -1 with
+   *             fewer than 3 rows.
    */
   void measurePaint(const ClassifierInput& in, const std::vector<cv::Point2f>& pixels, bool left,
                     const Params& p, float& coverage, float& yellowness);
@@ -194,7 +196,8 @@ class BoundaryClassifier {
   BandProfile profile_;
   LineFollower follower_;
   std::vector<float> ridge_, step_, chroma_, width_, line_h_, inner_h_, outer_h_, shift_;
-  std::vector<float> yellow_;  ///< measurePaint(): yellowness per row
+  std::vector<float> yellow_;       ///< measurePaint(): yellowness per row of paint width
+  std::vector<float> yellow_worn_;  ///< ... per row where the paint is worn narrower
   std::vector<float> row_grey_;  ///< arrowHead(): grey values of a row
   std::vector<signed char> object_;  ///< cutAtObject(): per pixel 1 object, 0 road, 2 off, -1 none
   std::vector<float> pair_step_, pair_raise_;  ///< classify(): per-row outer - inner, line - inner

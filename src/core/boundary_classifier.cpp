@@ -69,6 +69,8 @@ BoundaryClassifier::BoundaryClassifier() {
     v->reserve(kMaxMeasuredRows);
   pair_step_.reserve(2 * kMaxMeasuredRows);
   pair_raise_.reserve(2 * kMaxMeasuredRows);
+  yellow_.reserve(kMaxPaintRows);
+  yellow_worn_.reserve(kMaxPaintRows);
 }
 
 int BoundaryClassifier::followLine(const ClassifierInput& in, std::vector<cv::Point2f>& pixels,
@@ -452,6 +454,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
   };
   double covered = 0.0, total = 0.0;
   yellow_.clear();
+  yellow_worn_.clear();
   RowMeasure m;
   // at most kMaxPaintRows points, spread along the boundary, each standing for the stretch
   // half-way to its measured neighbours
@@ -468,9 +471,12 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     const Band* band = m.paint;
     if (band && std::fabs(0.5 * (band->lo + band->hi)) > kCoverageReach * m.ppm) band = nullptr;
     const bool paint = band || (m.ppm < kWidthPixelsPerMetre && m.peak - m.top >= m.contrast);
-    if (!paint) continue;
-    covered += weight;
-    if (!band) continue;
+    if (paint) covered += weight;
+    // the paint's colour: on its bands of paint width, else where it is worn narrower (a worn
+    // line's core, counted only where fewer than 3 rows have paint width)
+    const bool worn = band == nullptr;
+    if (worn) band = m.narrow;
+    if (!band || std::fabs(0.5 * (band->lo + band->hi)) > kCoverageReach * m.ppm) continue;
     // colour of the paint against the road beside it (the illumination cancels): yellow paint
     // reflects little blue; pixels whose red or green alone is clipped do not count
     const ImageRow row(in, m.v);
@@ -493,9 +499,10 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
       }
     if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;
     const double r = (pr / np) / (ar / na), g = (pg / np) / (ag / na), b = (pb / np) / (ab / na);
-    yellow_.push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
+    (worn ? yellow_worn_ : yellow_).push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
   }
   if (total >= kMinCoverageLength) coverage = static_cast<float>(covered / total);
+  if (yellow_.size() < 3) yellow_.insert(yellow_.end(), yellow_worn_.begin(), yellow_worn_.end());
   if (yellow_.size() >= 3) yellowness = std::max(0.0f, median(yellow_));
 }
 

@@ -305,6 +305,20 @@ TEST(BoundaryClassifier, MeasurePaintTellsYellowWhoseRedAndGreenClip) {
   EXPECT_LT(yellowness, 0.1f) << "white paint";
 }
 
+TEST(BoundaryClassifier, MeasurePaintTakesTheColourOfPaintWornNarrow) {
+  // a yellow line worn to 5 cm (narrower than paint_width_min on every row): no row has a band
+  // of paint width, the colour is the worn rows'
+  CrossSection cs;
+  cs.colour = [](double x, double) {
+    return std::fabs(x - 1.8) < 0.025 ? cv::Vec3b(204, 158, 36) : grey(90);
+  };
+  Fixture f;
+  float coverage = 0.f, yellowness = 0.f;
+  f.classify(cs, linePixels(1.8), false);
+  f.measure(false, coverage, yellowness);
+  EXPECT_NEAR(yellowness, 0.8f, 0.1f) << "worn yellow paint (-1: no colour)";
+}
+
 TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashed) {
   Fixture f;
   float coverage = 0.f, yellowness = 0.f;
