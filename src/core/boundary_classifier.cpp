@@ -25,6 +25,9 @@ constexpr double kCoverageReach = 0.15;      // m: paint this close to the line 
 // a channel this bright is clipped; sunlit yellow paint clips its red and green first and then
 // reads whiter than it is (a pixel clipped in every channel is white, or as white as can be told)
 constexpr float kSaturated = 250.0f;
+// grey levels the road beside a worn line needs in every channel for the colour of its thin core
+// against it: on a darker road (night) the channels' ratios over so few pixels are the noise
+constexpr double kMinWornColourLevel = 20.0;
 constexpr double kMinCoverageLength = 3.0;   // m of measured road for a coverage
 // m of unbroken paint width: a dash, which no rail head widens to (the shortest lane-line dash
 // is 1 m, urban; a worn dash keeps its paint width over only part of its length, its rows
@@ -498,6 +501,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
         ar += R, ag += G, ab += B, ++na;
       }
     if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;
+    if (worn && std::min({ar, ag, ab}) < kMinWornColourLevel * na) continue;
     const double r = (pr / np) / (ar / na), g = (pg / np) / (ag / na), b = (pb / np) / (ab / na);
     (worn ? yellow_worn_ : yellow_).push_back(static_cast<float>(1.0 - b / (0.5 * (r + g))));
   }
