@@ -1,6 +1,7 @@
 // Boundary classification on rendered cross-sections of a road: paint, a rail head, a thin line
-// running into a dash, a zebra stripe, a kerb, a shadow's edge, a grass edge, a rail beside paint, an object above the road;
-// the paint's coverage and colour (also where the sun clips it).
+// running into a dash, a zebra stripe, a kerb, a shadow's edge, a grass edge, a rail beside
+// paint, an object above the road; the paint's coverage and colour (also where the sun clips it,
+// and on a worn line).
 // (Following lines row by row: test_line_follower.)
 #include <cmath>
 
