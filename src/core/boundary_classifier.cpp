@@ -22,7 +22,7 @@ constexpr int kMinHeights = 3;
 constexpr double kMinShift = 0.02;           // m: smaller offsets of the paint are not applied
 constexpr float kShadowRatio = 1.4f;         // a shadow's sunlit side is at least this much brighter
 constexpr double kCoverageReach = 0.15;      // m: paint this close to the line covers it
-// a channel this bright is clipped; sunlit yellow paint clips its red and green first and then
+// a channel this bright is clipped: sunlit yellow paint clips its red and green first and then
 // reads whiter than it is (a pixel clipped in every channel is white, or as white as can be told)
 constexpr float kSaturated = 250.0f;
 // grey levels the road beside a worn line needs in every channel for the colour of its thin core
@@ -481,7 +481,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     if (worn) band = m.narrow;
     if (!band || std::fabs(0.5 * (band->lo + band->hi)) > kCoverageReach * m.ppm) continue;
     // colour of the paint against the road beside it (the illumination cancels): yellow paint
-    // reflects little blue; pixels whose red or green alone is clipped do not count
+    // reflects little blue; a pixel with its red or green clipped and its blue not does not count
     const ImageRow row(in, m.v);
     double pr = 0, pg = 0, pb = 0, ar = 0, ag = 0, ab = 0;
     int np = 0, na = 0;
