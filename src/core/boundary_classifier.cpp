@@ -483,12 +483,15 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     // colour of the paint against the road beside it (the illumination cancels): yellow paint
     // reflects little blue; a pixel with its red or green clipped and its blue not does not count
     const ImageRow row(in, m.v);
+    const auto yellowClipped = [](float R, float G, float B) {
+      return std::max(R, G) >= kSaturated && B < kSaturated;
+    };
     double pr = 0, pg = 0, pb = 0, ar = 0, ag = 0, ab = 0;
     int np = 0, na = 0;
     for (int k2 = static_cast<int>(std::ceil(band->lo)); k2 <= static_cast<int>(std::floor(band->hi)); ++k2) {
       float R, G, B;
       row.rgb(m.u0 + k2, R, G, B);
-      if (std::max(R, G) >= kSaturated && B < kSaturated) continue;
+      if (yellowClipped(R, G, B)) continue;
       pr += R, pg += G, pb += B, ++np;
     }
     const int s0 = std::max(2, static_cast<int>(std::ceil(kSideNear * m.ppm)));
@@ -497,7 +500,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
       for (int k2 = s0; k2 <= s1 && k2 <= m.W; ++k2) {
         float R, G, B;
         row.rgb(m.u0 + dir * k2, R, G, B);
-        if (std::max(R, G) >= kSaturated && B < kSaturated) continue;
+        if (yellowClipped(R, G, B)) continue;
         ar += R, ag += G, ab += B, ++na;
       }
     if (np == 0 || na == 0 || ab <= 0.0 || ar <= 0.0 || ag <= 0.0) continue;
