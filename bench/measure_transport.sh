@@ -114,6 +114,19 @@ json.dump(d, open(path, "w"), indent=1)
 EOF
 }
 
+tcp_counters() {  # the machine's TCP retransmitted segments and retransmission timeouts, "R T"
+  awk '$1 == "Tcp:" && !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
+       $1 == "Tcp:" { r = $c["RetransSegs"] } END { printf "%s ", r }' /proc/net/snmp
+  awk '$1 == "TcpExt:" && !h { for (i = 1; i <= NF; i++) c[$i] = i; h = 1; next }
+       $1 == "TcpExt:" { print $c["TCPTimeouts"] }' /proc/net/netstat
+}
+tcp_delta() {  # tcp_delta "R0 T0": meta arguments for the counters' growth since R0 T0
+  local a b
+  read -r -a a <<< "$1"
+  read -r -a b <<< "$(tcp_counters)"
+  echo "tcp_retransmits=$((b[0] - a[0]))" "tcp_timeouts=$((b[1] - a[1]))"
+}
+
 run_player() {  # run_player CASE W H RATE DURATION
   local case=$1 w=$2 h=$3 rate=$4 dur=$5
   local id=${case}_${w}x${h}_${rate}
@@ -121,7 +134,8 @@ run_player() {  # run_player CASE W H RATE DURATION
   local load
   load=$(cut -d' ' -f1-3 /proc/loadavg)
   echo "measure_transport: $id (${dur} s after ${WARMUP} s warm-up; load $load)"
-  local tf=true detector=true
+  local tf=true detector=true tcp0
+  tcp0=$(tcp_counters)
   [ "$case" = manager_no_tf ] && tf=false
   [ "$case" = process ] && detector=false
   start "$OUT/logs/$id.probe.log" $PYTHON "$ROOT/bench/transport_probe.py" --mode player \
@@ -141,7 +155,9 @@ run_player() {  # run_player CASE W H RATE DURATION
   done
   wait "$probe" 2> /dev/null || true
   stop
+  # shellcheck disable=SC2046
   meta "$json" case="$case" size="${w}x${h}" rate="$rate" duration="$dur" load="$load" \
+    $(tcp_delta "$tcp0") \
     queue_size="$(sed -n 's/^queue_size: *\([0-9]*\).*/\1/p' "$CONFIG")" \
     load_end="$(cut -d' ' -f1-3 /proc/loadavg)"
 }
@@ -168,14 +184,16 @@ run_bag() {  # run_bag CASE W H RATE BAG
   # the probe subscribes lane_plane, so the nodelet subscribes its inputs: wait for that
   wait_subscriber /camera/rgb/image_rect_color 60 ||
     echo "measure_transport: $id: the detector did not subscribe its input" >&2
-  local p0 p1
+  local p0 p1 tcp0
+  tcp0=$(tcp_counters)
   p0=$(date +%s.%N)
   rosbag play --quiet -r "$factor" "$bag" > "$OUT/logs/$id.play.log" 2>&1 || true
   p1=$(date +%s.%N)
   touch "$done_file"
   wait "$probe" 2> /dev/null || true
   stop
-  meta "$json" case="$case" size="${w}x${h}" rate="$rate" load="$load" \
+  # shellcheck disable=SC2046
+  meta "$json" case="$case" size="${w}x${h}" rate="$rate" load="$load" $(tcp_delta "$tcp0") \
     queue_size="$(sed -n 's/^queue_size: *\([0-9]*\).*/\1/p' "$CONFIG")" \
     load_end="$(cut -d' ' -f1-3 /proc/loadavg)" \
     bag_frames="$((BAG_SECONDS * 30))" \
@@ -201,6 +219,9 @@ for size in $SIZES; do
     echo "measure_transport: writing $bag (${BAG_SECONDS} s at 30 Hz)"
     "$TOOL" --width "$w" --height "$h" --rate 30 --count $((BAG_SECONDS * 30)) --out "$bag" \
       > "$OUT/logs/bag_${size}.log" 2>&1
+    # the bag on disk before it is played: its writeback (3 GB at 1920x1080) would otherwise run
+    # during the first plays and take the cores the nodelet needs
+    sync
     for rate in $RATES; do
       for case in $CASES; do
         case $case in bag_node|bag_manager) run_bag "$case" "$w" "$h" "$rate" "$bag" ;; esac

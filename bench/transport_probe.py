@@ -37,13 +37,20 @@ def main():
     args = ap.parse_args(rospy.myargv()[1:])
     rospy.init_node("transport_probe", anonymous=True, disable_signals=True)
 
-    state = {"reports": [], "summary": None, "windows": [], "outputs": 0}
+    state = {"reports": [], "summary": None, "windows": [], "outputs": 0,
+             "max_queue_wait_ms": None}
 
     def on_diag(msg):
         for st in msg.status:
             if args.node in st.name and st.name.endswith("processing"):
                 v = values(st)
                 state["reports"].append(v)
+                try:  # over every window, those without a processed frame too (prepare())
+                    wait = float(v.get("Max subscriber queue wait (ms)"))
+                    if state["max_queue_wait_ms"] is None or wait > state["max_queue_wait_ms"]:
+                        state["max_queue_wait_ms"] = wait
+                except (TypeError, ValueError):
+                    pass
                 try:
                     if float(v.get("Mean detector time (ms)", "0")) > 0:
                         state["windows"].append({
@@ -88,6 +95,7 @@ def main():
         "settled": settled,
         "accounting": state["reports"][-1] if state["reports"] else {},
         "windows": state["windows"],
+        "max_queue_wait_ms": state["max_queue_wait_ms"],
         "summary": state["summary"],
         "outputs": state["outputs"] if args.subscribe else None,
     }

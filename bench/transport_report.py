@@ -40,6 +40,8 @@ def row(r):
     n = lambda k: num(acc.get(k))  # noqa: E731
     received, processed = n("Frames received"), n("Frames processed")
     lost_before, not_sync = n("Frames lost before the nodelet"), n("Frames not synchronised")
+    depth_lost, info_lost = (n("Depth images lost before the nodelet"),
+                             n("Camera infos lost before the nodelet"))
     dropped, waiting = n("Frames dropped"), n("Frames waiting")
     windows = r.get("windows") or []
     cb = [w["callback_ms"] for w in windows if num(w.get("callback_ms")) is not None]
@@ -55,7 +57,10 @@ def row(r):
         "callback_ms": cb_mean, "callback_max_ms": max(mx) if mx else None,
         "callback_max_cpu_ms": max(mx_cpu) if mx_cpu else None, "detect_ms": det_mean,
         "load": r.get("load"), "settled": r.get("settled"), "queue_size": r.get("queue_size"),
-        "outputs": r.get("outputs"),
+        "outputs": r.get("outputs"), "depth_lost_before": depth_lost,
+        "info_lost_before": info_lost, "max_queue_wait_ms": num(r.get("max_queue_wait_ms")),
+        "tcp_retransmits": num(r.get("tcp_retransmits")),
+        "tcp_timeouts": num(r.get("tcp_timeouts")),
     }
     if summ:
         pub_measured = num(summ.get("published"))
@@ -102,8 +107,10 @@ def main():
     L.append("")
     L.append("Frames per stage, cumulative over the run (warm-up included): *published* by the "
              "player or in the bag; *received* by the nodelet's colour subscriber; *lost before* "
-             "= gaps in header.seq (never reached the callback: publisher or subscriber queue, "
-             "transport); *not sync* = received but never emitted by the synchroniser; *dropped* "
+             "= gaps in header.seq of the colour images, then of the depth images and camera_infos "
+             "(never reached the callback: publisher or subscriber queue, transport; a colour "
+             "image whose depth or camera_info was lost cannot be synchronised); *not sync* = "
+             "received but never emitted by the synchroniser; *dropped* "
              "= synchronised but not processed (bad input, missing transform); *processed*. "
              "*Lost after warm-up*: frames the player published after its warm-up whose lane_plane "
              "never came back (issue 23's figure). Latency: now - header.stamp when lane_plane "
@@ -112,14 +119,21 @@ def main():
              "diagnostics windows; *cb max*: the slowest callback's wall time, and the largest CPU "
              "time of the callback's thread (a wall time far above it waited for a core: other "
              "processes or threads, not the detector's own work); *queue*: the nodelet's "
-             "queue_size (subscribers and synchroniser). "
+             "queue_size (subscribers and synchroniser); *queue wait*: the longest time an input "
+             "message waited in the nodelet's subscriber queue (receipt to callback) in the run: "
+             "about queue_size periods when the subscriber queues overflowed, near 0 when the "
+             "losses were upstream; *TCP retrans / RTO*: segments the machine's TCP "
+             "retransmitted, and retransmission timeouts (each stalls its connection for 0.2 s "
+             "or more, doubling), during the run (system-wide counters of /proc/net; the "
+             "messages between processes are TCP over loopback). "
              "*lane_plane out*: outputs counted by the player (or, for bags, by the probe).")
     L.append("")
-    L.append("| case | size | Hz | published | received | lost before | not sync | dropped | "
-             "processed | lane_plane out | lost after warm-up | latency mean / p50 / p99 / max ms | cb / detect() ms "
-             "| cb max wall / CPU ms | queue | load |")
-    L.append("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- | ---: "
-             "| ---: | --- |")
+    L.append("| case | size | Hz | published | received | lost before colour / depth / info "
+             "| not sync | dropped | processed | lane_plane out | lost after warm-up "
+             "| latency mean / p50 / p99 / max ms | cb / detect() ms | cb max wall / CPU ms "
+             "| queue wait max ms | TCP retrans / RTO | queue | load |")
+    L.append("| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: "
+             "| --- | --- | ---: | ---: | ---: | ---: | --- |")
     for r in rows:
         if r.get("latency_mean_ms") is not None and r.get("published_measured"):
             lat = " / ".join(fmt(r.get(k)) for k in ("latency_mean_ms", "latency_p50_ms",
@@ -133,11 +147,15 @@ def main():
                 lat = f"play {fmt(r['play_seconds'])} s for {fmt(r['bag_seconds'])} s of bag"
         L.append("| " + " | ".join([
             CASES.get(r["case"], r["case"] or "?"), r["size"] or "?", str(r["rate"]),
-            fmt(r.get("published"), 0), fmt(r.get("received"), 0), fmt(r.get("lost_before"), 0),
+            fmt(r.get("published"), 0), fmt(r.get("received"), 0),
+            " / ".join(fmt(r.get(k), 0) for k in ("lost_before", "depth_lost_before",
+                                                  "info_lost_before")),
             fmt(r.get("not_synchronised"), 0), fmt(r.get("dropped"), 0),
             fmt(r.get("processed"), 0), fmt(num(r.get("outputs")), 0), lost_m, lat,
             f"{fmt(r.get('callback_ms'), 2)} / {fmt(r.get('detect_ms'), 2)}",
             f"{fmt(r.get('callback_max_ms'), 1)} / {fmt(r.get('callback_max_cpu_ms'), 1)}",
+            fmt(r.get("max_queue_wait_ms"), 1),
+            f"{fmt(r.get('tcp_retransmits'), 0)} / {fmt(r.get('tcp_timeouts'), 0)}",
             r.get("queue_size") or "-",
             r.get("load") or "-"]) + " |")
     target = [r for r in rows if r["case"] == "manager" and r["size"] == "1920x1080"

@@ -40,15 +40,41 @@ int64_t FrameAccounting::Report::unaccounted() const {
          static_cast<int64_t>(processed + dropped + skipped + not_synchronised + waiting);
 }
 
-void FrameAccounting::received(const void* id, int64_t stamp_ns, uint32_t seq) {
+uint64_t FrameAccounting::SequenceRun::gapBefore(uint32_t seq) {
+  // Messages lost before the nodelet (transport, publisher or full subscriber queue): gaps in
+  // header.seq, which publishers number per message sent. A run restarts at each
+  // (re)subscription; a seq that does not increase (restarted publisher, publishers leaving seq
+  // at 0) counts nothing.
+  const uint64_t gap = !restart && seq > last ? seq - last - 1 : 0;
+  restart = false;
+  last = seq;
+  return gap;
+}
+
+void FrameAccounting::waited(double queue_wait_ms) {
+  counts_.window_max_queue_wait_ms = std::max(counts_.window_max_queue_wait_ms, queue_wait_ms);
+}
+
+void FrameAccounting::depthReceived(uint32_t seq, double queue_wait_ms) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counts_.depth_received;
+  counts_.depth_lost_before += depth_seq_.gapBefore(seq);
+  waited(queue_wait_ms);
+}
+
+void FrameAccounting::cameraInfoReceived(uint32_t seq, double queue_wait_ms) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++counts_.info_received;
+  counts_.info_lost_before += info_seq_.gapBefore(seq);
+  waited(queue_wait_ms);
+}
+
+void FrameAccounting::received(const void* id, int64_t stamp_ns, uint32_t seq,
+                               double queue_wait_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.received;
-  // Images lost before the nodelet (transport, full subscriber queue): gaps in header.seq, which
-  // publishers number per message sent. A run restarts at each (re)subscription; a seq that does
-  // not increase (restarted publisher, publishers leaving seq at 0) counts nothing.
-  if (!seq_restart_ && seq > last_seq_) counts_.lost_before += seq - last_seq_ - 1;
-  seq_restart_ = false;
-  last_seq_ = seq;
+  counts_.lost_before += colour_seq_.gapBefore(seq);
+  waited(queue_wait_ms);
   // Pending until the synchroniser emits it or a later image. The synchronisers hold at most
   // queue_size images per topic, so one evicted from the full ring was dropped there.
   if (pending_count_ == kPendingCapacity) {
@@ -65,7 +91,7 @@ void FrameAccounting::received(const void* id, int64_t stamp_ns, uint32_t seq) {
 
 void FrameAccounting::restartSequence() {
   std::lock_guard<std::mutex> lock(mutex_);
-  seq_restart_ = true;
+  colour_seq_.restart = depth_seq_.restart = info_seq_.restart = true;
 }
 
 void FrameAccounting::synchronised(const void* id, int64_t stamp_ns, FrameOutcome outcome,
@@ -138,7 +164,7 @@ FrameAccounting::Report FrameAccounting::report() {
   r.waiting = pending_count_;
   counts_.window_processed = counts_.window_dropped = 0;
   counts_.window_callback_ms = counts_.window_detect_ms = counts_.window_max_ms = 0.0;
-  counts_.window_max_cpu_ms = 0.0;
+  counts_.window_max_cpu_ms = counts_.window_max_queue_wait_ms = 0.0;
   return r;
 }
 

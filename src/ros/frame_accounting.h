@@ -66,6 +66,10 @@ class FrameAccounting {
     uint64_t late_synchronised = 0;  ///< emitted after being counted as not synchronised
     uint64_t untracked = 0;          ///< emitted but never received (never expected)
     uint64_t lost_before = 0;        ///< gaps in the colour header.seq
+    uint64_t depth_received = 0;     ///< depth images received
+    uint64_t depth_lost_before = 0;  ///< gaps in the depth header.seq
+    uint64_t info_received = 0;      ///< camera_infos received
+    uint64_t info_lost_before = 0;   ///< gaps in the camera_info header.seq
     size_t drop_reasons = 0;         ///< used entries of drops
     DropCount drops[kMaxDropReasons];
     char last_drop[kReasonLength] = {};  ///< reason of the latest drop ("" if none)
@@ -77,6 +81,11 @@ class FrameAccounting {
     /// Largest CPU time of a callback's thread in the window: far below window_max_ms, the
     /// slowest callback waited for a core (other processes, threads) rather than computed
     double window_max_cpu_ms = 0.0;
+    /// Longest time a colour, depth or camera_info message waited between its arrival at the
+    /// node (receipt) and its subscriber callback in the window: near queue_size frame periods,
+    /// the subscriber queues were full and dropped their oldest messages; near 0 with images
+    /// lost before the nodelet, they were lost upstream (publisher queue, transport)
+    double window_max_queue_wait_ms = 0.0;
 
     /// @return received minus every state it is split into (0 when the rule holds)
     int64_t unaccounted() const;
@@ -87,8 +96,20 @@ class FrameAccounting {
    * @param[in] id identity of the message (its address; only compared, never dereferenced)
    * @param[in] stamp_ns its header stamp in nanoseconds
    * @param[in] seq its header.seq: gaps while subscribed are images lost before the nodelet
+   * @param[in] queue_wait_ms time it waited in the subscriber queue (receipt to callback)
    */
-  void received(const void* id, int64_t stamp_ns, uint32_t seq);
+  void received(const void* id, int64_t stamp_ns, uint32_t seq, double queue_wait_ms = 0.0);
+
+  /**
+   * @brief A depth image reached the nodelet: counted, and gaps in its header.seq are depth
+   * images lost before the nodelet (a colour image whose depth was lost cannot be synchronised).
+   * @param[in] seq its header.seq
+   * @param[in] queue_wait_ms time it waited in the subscriber queue (receipt to callback)
+   */
+  void depthReceived(uint32_t seq, double queue_wait_ms = 0.0);
+
+  /// As depthReceived(), for a camera_info.
+  void cameraInfoReceived(uint32_t seq, double queue_wait_ms = 0.0);
 
   /// The inputs were (re)subscribed: seq gaps across the unsubscribed period are not losses.
   void restartSequence();
@@ -121,10 +142,18 @@ class FrameAccounting {
   Pending& pendingAt(size_t k) { return pending_[(pending_head_ + k) % kPendingCapacity]; }
   void countDrop(const char* reason);
 
+  /// One input's header.seq run: gaps between consecutive seq are messages lost before the node.
+  struct SequenceRun {
+    bool restart = true;  ///< the next seq starts a run (first message, resubscription)
+    uint32_t last = 0;
+    /// @return the messages missing before @p seq (0 at a restart or a seq that did not increase)
+    uint64_t gapBefore(uint32_t seq);
+  };
+  void waited(double queue_wait_ms);
+
   std::mutex mutex_;
   Report counts_;  ///< guarded by mutex_; waiting is pending_count_
-  bool seq_restart_ = true;
-  uint32_t last_seq_ = 0;
+  SequenceRun colour_seq_, depth_seq_, info_seq_;
   Pending pending_[kPendingCapacity];  ///< ring in arrival order
   size_t pending_head_ = 0, pending_count_ = 0;
 };

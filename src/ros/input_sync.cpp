@@ -16,6 +16,15 @@ const char* transportPackage(const std::string& transport) {
   return nullptr;
 }
 
+/// Time a message waited between its receipt and its subscriber callback (ms; 0 when the event
+/// has no receipt time, as messages fed to the entry points directly).
+template <class Event>
+double queueWaitMs(const Event& event) {
+  const ros::Time receipt = event.getReceiptTime();
+  if (receipt.isZero()) return 0.0;
+  return std::max(0.0, (ros::Time::now() - receipt).toSec() * 1e3);
+}
+
 }  // namespace
 
 std::string InputSynchroniser::Jump::text(bool tf) const {
@@ -67,15 +76,18 @@ void InputSynchroniser::unsubscribe() {
 }
 
 void InputSynchroniser::colourIn(const ImageEvent& event) {
-  if (callbacks_.colour_received) callbacks_.colour_received(*event.getMessage());
+  if (callbacks_.colour_received)
+    callbacks_.colour_received(*event.getMessage(), queueWaitMs(event));
   if (accept(kColour, event.getMessage()->header.stamp)) pass_colour_.add(event);
 }
 
 void InputSynchroniser::depthIn(const ImageEvent& event) {
+  if (callbacks_.depth_received) callbacks_.depth_received(*event.getMessage(), queueWaitMs(event));
   if (accept(kDepth, event.getMessage()->header.stamp)) pass_depth_.add(event);
 }
 
 void InputSynchroniser::infoIn(const CameraInfoEvent& event) {
+  if (callbacks_.info_received) callbacks_.info_received(*event.getMessage(), queueWaitMs(event));
   if (!accept(kInfo, event.getMessage()->header.stamp)) return;
   if (callbacks_.camera_info) callbacks_.camera_info(*event.getMessage());
   pass_info_.add(event);

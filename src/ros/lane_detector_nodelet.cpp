@@ -76,7 +76,15 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
       return inputs_->subscribed();
     }));
     InputSynchroniser::Callbacks in;
-    in.colour_received = [this](const Image& colour) { diagnostics_->received(colour); };
+    in.colour_received = [this](const Image& colour, double wait_ms) {
+      diagnostics_->received(colour, wait_ms);
+    };
+    in.depth_received = [this](const Image& depth, double wait_ms) {
+      diagnostics_->accounting().depthReceived(depth.header.seq, wait_ms);
+    };
+    in.info_received = [this](const CameraInfo& info, double wait_ms) {
+      diagnostics_->accounting().cameraInfoReceived(info.header.seq, wait_ms);
+    };
     in.camera_info = [this](const CameraInfo& info) { prepare(info); };
     in.frame = [this](const sensor_msgs::ImageConstPtr& colour,
                       const sensor_msgs::ImageConstPtr& depth,

@@ -31,6 +31,11 @@ void processingStatus(const FrameAccounting::Report& r, bool subscribed,
   stat.add("Frames waiting", r.waiting);
   stat.add("Frames unaccounted", r.unaccounted());
   stat.add("Frames lost before the nodelet", r.lost_before);
+  // the other inputs: a colour image whose depth or camera_info was lost is not synchronised
+  stat.add("Depth images received", r.depth_received);
+  stat.add("Depth images lost before the nodelet", r.depth_lost_before);
+  stat.add("Camera infos received", r.info_received);
+  stat.add("Camera infos lost before the nodelet", r.info_lost_before);
   stat.add("Pending ring overflows", r.ring_overflow);
   stat.add("Frames synchronised late", r.late_synchronised);
   if (r.untracked > 0) stat.add("Frames synchronised untracked", r.untracked);
@@ -42,6 +47,7 @@ void processingStatus(const FrameAccounting::Report& r, bool subscribed,
   stat.addf("Mean ROS overhead (ms)", "%.3f", (r.window_callback_ms - r.window_detect_ms) / n);
   stat.addf("Max processing time (ms)", "%.3f", r.window_max_ms);
   stat.addf("Max processing CPU time (ms)", "%.3f", r.window_max_cpu_ms);
+  stat.addf("Max subscriber queue wait (ms)", "%.3f", r.window_max_queue_wait_ms);
 }
 
 double NodeDiagnostics::threadCpuMs() {

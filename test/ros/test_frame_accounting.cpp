@@ -168,6 +168,41 @@ TEST(FrameAccounting, SequenceGapsAreImagesLostBeforeTheNodelet) {
   EXPECT_EQ(a.report().lost_before, 3u);
 }
 
+TEST(FrameAccounting, DepthAndCameraInfoGapsAreCountedPerInput) {
+  FrameAccounting a;
+  // colour complete, depth missing 3 and 4, camera_info missing 2
+  for (uint32_t s = 1; s <= 6; ++s) a.received(idOf(s), static_cast<int64_t>(s), s);
+  for (uint32_t s : {1u, 2u, 5u, 6u}) a.depthReceived(s);
+  for (uint32_t s : {1u, 3u, 4u, 5u, 6u}) a.cameraInfoReceived(s);
+  Report r = a.report();
+  EXPECT_EQ(r.received, 6u);
+  EXPECT_EQ(r.lost_before, 0u);
+  EXPECT_EQ(r.depth_received, 4u);
+  EXPECT_EQ(r.depth_lost_before, 2u);
+  EXPECT_EQ(r.info_received, 5u);
+  EXPECT_EQ(r.info_lost_before, 1u);
+  EXPECT_EQ(r.unaccounted(), 0) << "depth and camera_info are not colour frames";
+  // each input's run restarts at a resubscription: the gaps across it are not losses
+  a.restartSequence();
+  a.depthReceived(40);
+  a.cameraInfoReceived(90);
+  a.depthReceived(42);
+  r = a.report();
+  EXPECT_EQ(r.depth_lost_before, 3u);
+  EXPECT_EQ(r.info_lost_before, 1u);
+}
+
+TEST(FrameAccounting, TheLongestSubscriberQueueWaitIsPerWindow) {
+  FrameAccounting a;
+  a.received(idOf(0), 0, 0, 2.5);
+  a.depthReceived(0, 40.0);
+  a.cameraInfoReceived(0, 7.0);
+  EXPECT_DOUBLE_EQ(a.report().window_max_queue_wait_ms, 40.0);
+  a.received(idOf(1), 1, 1, 3.0);
+  EXPECT_DOUBLE_EQ(a.report().window_max_queue_wait_ms, 3.0) << "a new window starts empty";
+  EXPECT_DOUBLE_EQ(a.report().window_max_queue_wait_ms, 0.0);
+}
+
 TEST(FrameAccounting, RingOverflowAndLateEmissionKeepTheRule) {
   FrameAccounting a;
   const size_t n = FrameAccounting::kPendingCapacity + 44;

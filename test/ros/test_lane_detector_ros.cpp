@@ -693,6 +693,11 @@ TEST(LaneDetectorRos, EveryInputFrameIsAccountedFor) {
   EXPECT_EQ(delta("Frames not synchronised") + delta("Frames lost before the nodelet"), 4 + 40);
   EXPECT_EQ(delta("Frames processed"), 4);
   EXPECT_EQ(delta("Frames skipped (no subscriber)"), 0);
+  // depth and camera_info go out in pairs, never in a burst: none lost, as many of each
+  EXPECT_EQ(delta("Depth images lost before the nodelet"), 0);
+  EXPECT_EQ(delta("Camera infos lost before the nodelet"), 0);
+  EXPECT_EQ(delta("Depth images received"), delta("Camera infos received"));
+  EXPECT_GE(delta("Depth images received"), 4 + 5);  // the good sets and the dropped ones
   // the rule holds at every diagnostics update, not only at the end
   expectAccountingInEveryReport();
   for (const auto& kv : end)
