@@ -46,7 +46,7 @@ def main():
                 v = values(st)
                 state["reports"].append(v)
                 try:  # over every window, those without a processed frame too (prepare())
-                    wait = float(v.get("Max subscriber queue wait (ms)"))
+                    wait = float(v.get("Max camera_info queue wait (ms)"))
                     if state["max_queue_wait_ms"] is None or wait > state["max_queue_wait_ms"]:
                         state["max_queue_wait_ms"] = wait
                 except (TypeError, ValueError):

@@ -51,30 +51,23 @@ uint64_t FrameAccounting::SequenceRun::gapBefore(uint32_t seq) {
   return gap;
 }
 
-void FrameAccounting::waited(double queue_wait_ms) {
-  counts_.window_max_queue_wait_ms = std::max(counts_.window_max_queue_wait_ms, queue_wait_ms);
-}
-
-void FrameAccounting::depthReceived(uint32_t seq, double queue_wait_ms) {
+void FrameAccounting::depthReceived(uint32_t seq) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.depth_received;
   counts_.depth_lost_before += depth_seq_.gapBefore(seq);
-  waited(queue_wait_ms);
 }
 
 void FrameAccounting::cameraInfoReceived(uint32_t seq, double queue_wait_ms) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.info_received;
   counts_.info_lost_before += info_seq_.gapBefore(seq);
-  waited(queue_wait_ms);
+  counts_.window_max_info_wait_ms = std::max(counts_.window_max_info_wait_ms, queue_wait_ms);
 }
 
-void FrameAccounting::received(const void* id, int64_t stamp_ns, uint32_t seq,
-                               double queue_wait_ms) {
+void FrameAccounting::received(const void* id, int64_t stamp_ns, uint32_t seq) {
   std::lock_guard<std::mutex> lock(mutex_);
   ++counts_.received;
   counts_.lost_before += colour_seq_.gapBefore(seq);
-  waited(queue_wait_ms);
   // Pending until the synchroniser emits it or a later image. The synchronisers hold at most
   // queue_size images per topic, so one evicted from the full ring was dropped there.
   if (pending_count_ == kPendingCapacity) {
@@ -164,7 +157,7 @@ FrameAccounting::Report FrameAccounting::report() {
   r.waiting = pending_count_;
   counts_.window_processed = counts_.window_dropped = 0;
   counts_.window_callback_ms = counts_.window_detect_ms = counts_.window_max_ms = 0.0;
-  counts_.window_max_cpu_ms = counts_.window_max_queue_wait_ms = 0.0;
+  counts_.window_max_cpu_ms = counts_.window_max_info_wait_ms = 0.0;
   return r;
 }
 

@@ -81,11 +81,13 @@ class FrameAccounting {
     /// Largest CPU time of a callback's thread in the window: far below window_max_ms, the
     /// slowest callback waited for a core (other processes, threads) rather than computed
     double window_max_cpu_ms = 0.0;
-    /// Longest time a colour, depth or camera_info message waited between its arrival at the
-    /// node (receipt) and its subscriber callback in the window: near queue_size frame periods,
-    /// the subscriber queues were full and dropped their oldest messages; near 0 with images
-    /// lost before the nodelet, they were lost upstream (publisher queue, transport)
-    double window_max_queue_wait_ms = 0.0;
+    /// Longest time a camera_info waited between its arrival at the node (receipt) and its
+    /// subscriber callback in the window. The three inputs share the nodelet's callback queue,
+    /// so this is how far the callbacks ran behind: near queue_size frame periods, the subscriber
+    /// queues were full and dropped their oldest messages; near 0 while images were lost before
+    /// the nodelet, they were lost upstream (publisher queue, transport). (image_transport gives
+    /// the image callbacks no receipt time.)
+    double window_max_info_wait_ms = 0.0;
 
     /// @return received minus every state it is split into (0 when the rule holds)
     int64_t unaccounted() const;
@@ -96,20 +98,22 @@ class FrameAccounting {
    * @param[in] id identity of the message (its address; only compared, never dereferenced)
    * @param[in] stamp_ns its header stamp in nanoseconds
    * @param[in] seq its header.seq: gaps while subscribed are images lost before the nodelet
-   * @param[in] queue_wait_ms time it waited in the subscriber queue (receipt to callback)
    */
-  void received(const void* id, int64_t stamp_ns, uint32_t seq, double queue_wait_ms = 0.0);
+  void received(const void* id, int64_t stamp_ns, uint32_t seq);
 
   /**
    * @brief A depth image reached the nodelet: counted, and gaps in its header.seq are depth
    * images lost before the nodelet (a colour image whose depth was lost cannot be synchronised).
    * @param[in] seq its header.seq
-   * @param[in] queue_wait_ms time it waited in the subscriber queue (receipt to callback)
    */
-  void depthReceived(uint32_t seq, double queue_wait_ms = 0.0);
+  void depthReceived(uint32_t seq);
 
-  /// As depthReceived(), for a camera_info.
-  void cameraInfoReceived(uint32_t seq, double queue_wait_ms = 0.0);
+  /**
+   * @brief A camera_info reached the nodelet: counted as depthReceived() does.
+   * @param[in] seq its header.seq
+   * @param[in] queue_wait_ms time it waited in the callback queue (receipt to callback)
+   */
+  void cameraInfoReceived(uint32_t seq, double queue_wait_ms);
 
   /// The inputs were (re)subscribed: seq gaps across the unsubscribed period are not losses.
   void restartSequence();
@@ -149,7 +153,6 @@ class FrameAccounting {
     /// @return the messages missing before @p seq (0 at a restart or a seq that did not increase)
     uint64_t gapBefore(uint32_t seq);
   };
-  void waited(double queue_wait_ms);
 
   std::mutex mutex_;
   Report counts_;  ///< guarded by mutex_; waiting is pending_count_

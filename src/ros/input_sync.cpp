@@ -17,9 +17,9 @@ const char* transportPackage(const std::string& transport) {
 }
 
 /// Time a message waited between its receipt and its subscriber callback (ms; 0 when the event
-/// has no receipt time, as messages fed to the entry points directly).
-template <class Event>
-double queueWaitMs(const Event& event) {
+/// has no receipt time). Only camera_info's events carry the receipt: image_transport calls the
+/// image callbacks with the message alone, and their events are made at the call.
+double queueWaitMs(const ros::MessageEvent<const sensor_msgs::CameraInfo>& event) {
   const ros::Time receipt = event.getReceiptTime();
   if (receipt.isZero()) return 0.0;
   return std::max(0.0, (ros::Time::now() - receipt).toSec() * 1e3);
@@ -76,13 +76,12 @@ void InputSynchroniser::unsubscribe() {
 }
 
 void InputSynchroniser::colourIn(const ImageEvent& event) {
-  if (callbacks_.colour_received)
-    callbacks_.colour_received(*event.getMessage(), queueWaitMs(event));
+  if (callbacks_.colour_received) callbacks_.colour_received(*event.getMessage());
   if (accept(kColour, event.getMessage()->header.stamp)) pass_colour_.add(event);
 }
 
 void InputSynchroniser::depthIn(const ImageEvent& event) {
-  if (callbacks_.depth_received) callbacks_.depth_received(*event.getMessage(), queueWaitMs(event));
+  if (callbacks_.depth_received) callbacks_.depth_received(*event.getMessage());
   if (accept(kDepth, event.getMessage()->header.stamp)) pass_depth_.add(event);
 }
 

@@ -46,12 +46,12 @@ class InputSynchroniser {
     std::string text(bool tf) const;
   };
   struct Callbacks {
-    /// Every colour image received (before the bookkeeping: frame accounting), and the time it
-    /// waited in its subscriber queue (ms, receipt to callback; 0 when the receipt is unknown).
-    std::function<void(const Image&, double)> colour_received;
-    /// Every depth image received, the same way (frame accounting: seq gaps, queue wait).
-    std::function<void(const Image&, double)> depth_received;
-    /// Every camera_info received, the same way.
+    /// Every colour image received (before the bookkeeping: frame accounting).
+    std::function<void(const Image&)> colour_received;
+    /// Every depth image received (frame accounting: seq gaps).
+    std::function<void(const Image&)> depth_received;
+    /// Every camera_info received, and the time it waited in the callback queue (ms, receipt to
+    /// callback; 0 when the receipt is unknown).
     std::function<void(const CameraInfo&, double)> info_received;
     /// Every camera_info of the current epoch, before its frame can be synchronised.
     std::function<void(const CameraInfo&)> camera_info;

@@ -76,11 +76,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
       return inputs_->subscribed();
     }));
     InputSynchroniser::Callbacks in;
-    in.colour_received = [this](const Image& colour, double wait_ms) {
-      diagnostics_->received(colour, wait_ms);
-    };
-    in.depth_received = [this](const Image& depth, double wait_ms) {
-      diagnostics_->accounting().depthReceived(depth.header.seq, wait_ms);
+    in.colour_received = [this](const Image& colour) { diagnostics_->received(colour); };
+    in.depth_received = [this](const Image& depth) {
+      diagnostics_->accounting().depthReceived(depth.header.seq);
     };
     in.info_received = [this](const CameraInfo& info, double wait_ms) {
       diagnostics_->accounting().cameraInfoReceived(info.header.seq, wait_ms);

@@ -47,7 +47,7 @@ void processingStatus(const FrameAccounting::Report& r, bool subscribed,
   stat.addf("Mean ROS overhead (ms)", "%.3f", (r.window_callback_ms - r.window_detect_ms) / n);
   stat.addf("Max processing time (ms)", "%.3f", r.window_max_ms);
   stat.addf("Max processing CPU time (ms)", "%.3f", r.window_max_cpu_ms);
-  stat.addf("Max subscriber queue wait (ms)", "%.3f", r.window_max_queue_wait_ms);
+  stat.addf("Max camera_info queue wait (ms)", "%.3f", r.window_max_info_wait_ms);
 }
 
 double NodeDiagnostics::threadCpuMs() {

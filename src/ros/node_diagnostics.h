@@ -41,9 +41,9 @@ class NodeDiagnostics {
 
   FrameAccounting& accounting() { return accounting_; }
   /// A colour image reached the nodelet (its address is its identity until it is synchronised).
-  void received(const sensor_msgs::Image& colour, double queue_wait_ms) {
+  void received(const sensor_msgs::Image& colour) {
     accounting_.received(&colour, static_cast<int64_t>(colour.header.stamp.toNSec()),
-                         colour.header.seq, queue_wait_ms);
+                         colour.header.seq);
   }
   /// When a frame callback started: the steady clock, and the CPU time of its thread.
   struct CallbackStart {
