@@ -8,7 +8,9 @@
  * On each image row of the near road, scanning outward from the camera's column, the edge is
  * the first place where the surface rises from the road by at least the kerb height and stays
  * raised at a sidewalk's height, with a level top (a car's side rises higher, a vehicle's rear
- * face is vertical: no edge on that row). The edges of
+ * face is vertical: no edge on that row). A rise spread over up to 0.6 m (a rolled, mountable
+ * kerb; a verge beyond a gutter), which a step between neighbouring points never shows, ends
+ * the road at its foot: where the surface starts to rise. The edges of
  * the rows that line up along the road (a robust straight line in road coordinates over several
  * metres) are one side's road edge candidate, handed to the classifier and the lane fit like a
  * traced line.
@@ -53,6 +55,14 @@ struct RoadEdgeLine {
  */
 class RoadEdgeFinder {
  public:
+  /// A measured point of a searched row: its distance beside the camera (m), its height above
+  /// the plane (m), its column.
+  struct RowSample {
+    float lateral;
+    float height;
+    int x;
+  };
+
   /**
    * @brief Search both sides.
    * @param[in] points CV_32FC3 organised points at the processing scale (NaN: no depth).
@@ -81,6 +91,7 @@ class RoadEdgeFinder {
                const RoadEdgeSettings& s, bool left, RoadEdgeLine& out);
 
   std::vector<RowEdge> edges_[2];
+  std::vector<RowSample> samples_;  ///< one side of the row being searched
   std::vector<Eigen::Vector2d> road_;
   std::vector<int> inliers_;
 };

@@ -23,6 +23,8 @@ constexpr float kCamberGain = 0.3f;      // gain of the road's running height al
 constexpr float kLevelNear = 0.15f;      // m beyond a step where its top's normal is read ...
 constexpr float kLevelFar = 0.6f;        // ... at the latest
 constexpr double kLevelAngle = 0.44;     // rad (25 deg): a sidewalk's top is that level at least
+constexpr float kRiseReach = 0.6f;       // m across which a rolled kerb or a verge rises at most
+constexpr float kFootBand = 0.01f;       // m above the lowest point that is still the foot
 
 // The surface from column @p x0 outward (step @p step) up to kSidewalkCheck metres beyond the
 // lateral position @p x_edge: every measured point at most @p max_step above the plane.
@@ -59,6 +61,51 @@ bool levelBeyond(const cv::Mat& points, const cv::Mat* filled, int x0, int y, in
     return up >= std::cos(kLevelAngle);
   }
   return true;
+}
+
+// The foot of a rise whose first raised point is samples[top] (one side of a row, outward): the
+// lowest point within kRiseReach inward of it, moved out to the last point still within
+// kFootBand of that height (where the rise starts: a gutter's bottom, a rolled kerb's toe).
+// -1 when no point lies inward.
+int footOf(const std::vector<RoadEdgeFinder::RowSample>& samples, int top) {
+  const float reach = samples[top].lateral;
+  int low = -1;
+  for (int i = top - 1; i >= 0 && reach - samples[i].lateral <= kRiseReach; --i)
+    if (samples[i].lateral <= reach && (low < 0 || samples[i].height < samples[low].height))
+      low = i;
+  if (low < 0) return -1;
+  int foot = low;
+  for (int i = low + 1; i < top; ++i)
+    if (samples[i].lateral <= reach && samples[i].height <= samples[low].height + kFootBand)
+      foot = i;
+  return foot;
+}
+
+// A rolled (mountable) kerb or a verge: no step between two points, the surface rising over up
+// to kRiseReach. In @p samples (one side of a row, outward), the first point @p top that stands
+// @p kerb above its foot (footOf(): near the plane, at least @p offset_min beside the camera)
+// and stays that high over kSidewalkCheck beyond, at kRaisedRun points at least (a lone bump
+// is a seam's rim or a wheel).
+bool gradualRise(const std::vector<RoadEdgeFinder::RowSample>& samples, float kerb,
+                 double offset_min, int& foot, int& top) {
+  const int count = static_cast<int>(samples.size());
+  for (int j = 0; j < count; ++j) {
+    const int f = footOf(samples, j);
+    if (f < 0 || samples[j].height - samples[f].height < kerb ||
+        std::fabs(samples[f].height) > kMaxCamber || samples[f].lateral < offset_min)
+      continue;
+    int raised = 1;
+    bool stays = true;
+    for (int k = j + 1;
+         k < count && stays && samples[k].lateral - samples[j].lateral <= kSidewalkCheck;
+         ++k, ++raised)
+      stays = samples[k].height - samples[f].height >= kerb;
+    if (!stays || raised < kRaisedRun) continue;
+    foot = f;
+    top = j;
+    return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -105,7 +152,23 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
     const int stride = std::max(1, static_cast<int>(kColumnSpacing * ppm));
     for (int side = 0; side < 2; ++side) {
       const int step = side == 0 ? -stride : stride;
-      int road_run = 0, raised_run = 0, last_road = -1, first_raised = -1;
+      int road_run = 0, raised_run = 0, first_raised = -1;
+      bool stepped = false;
+      samples_.clear();
+      // a rise's foot in road coordinates, between the road point i and the point j outward of
+      // it: across the road half-way, ahead where i's pixel ray meets the plane (a point up a
+      // kerb's face or on a rolled kerb is nearer than the road on its row)
+      const auto footAt = [&](int i, int j) {
+        const auto across = [&](int k) {
+          const cv::Vec3f& q = row[samples_[k].x];
+          return frame.toRoad(Eigen::Vector3d(q[0], q[1], q[2])).y();
+        };
+        const int u = cm ? cm[samples_[i].x] : samples_[i].x;
+        const Eigen::Vector3d ray = K.ray(u, rm ? rm[y] : y);
+        double z = depth;
+        rayPlaneDepth(plane, ray, z);  // (the row's centre meets it: so does its column)
+        return Eigen::Vector2d(frame.toRoad(z * ray).x(), 0.5 * (across(i) + across(j)));
+      };
       // the road's own height along the row: a cambered road falls toward its gutter, and a
       // kerb rises from the gutter, not from the plane
       float local = 0.f;
@@ -116,34 +179,46 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
         if (std::fabs(p[0]) > s.offset_max) break;  // beyond any lane's edge
         const float h = n.x() * p[0] + n.y() * p[1] + n.z() * p[2] + d;
         if (h - local > max_step) break;  // a car's side, a wall: no road edge on this row
+        samples_.push_back({std::fabs(p[0]), h, x});
         if (std::fabs(h - local) <= road_band && std::fabs(h) <= kMaxCamber) {
           if (raised_run > 0) {  // the raised stretch was not the road's end
             raised_run = 0;
             road_run = 0;
           }
           ++road_run;
-          last_road = x;
           local += kCamberGain * (h - local);
         } else if (h - local >= kerb && road_run >= kRoadRun) {
-          if (raised_run++ == 0) first_raised = x;
+          if (raised_run++ == 0) first_raised = static_cast<int>(samples_.size()) - 1;
           if (raised_run >= kRaisedRun) {
-            // the step's foot: half-way between the last road point and the first raised one,
-            // in road coordinates (a raised point's pixel ray meets the plane beyond it)
-            const cv::Vec3f& a = row[last_road];
-            const cv::Vec3f& b = row[first_raised];
+            // the step's foot: where the rise to it starts (the road point followed up a kerb's
+            // sloped face is not the foot)
+            const cv::Vec3f& b = row[samples_[first_raised].x];
+            const int foot = footOf(samples_, first_raised);
             RowEdge e;
-            e.road = 0.5 * (frame.toRoad(Eigen::Vector3d(a[0], a[1], a[2])) +
-                            frame.toRoad(Eigen::Vector3d(b[0], b[1], b[2])));
+            e.road = footAt(foot, foot + 1);
             // a sidewalk stays low beyond its kerb, and its top is level; a car's or a truck's
             // side rises, its rear face is vertical
             if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local,
                                max_step) &&
-                levelBeyond(points, filled, first_raised, y, step, K, col_map, row_map, plane, s))
+                levelBeyond(points, filled, samples_[first_raised].x, y, step, K, col_map, row_map,
+                            plane, s))
               edges_[side].push_back(e);
+            stepped = true;
             break;
           }
         }
       }
+      // no step on this row: a rise spread over a hand's breadth or more, at its foot
+      int foot = -1, top = -1;
+      if (stepped || !gradualRise(samples_, kerb, s.offset_min, foot, top)) continue;
+      const cv::Vec3f& t = row[samples_[top].x];
+      if (!sidewalkBeyond(row, fill, samples_[top].x + step, step, points.cols, t[0], n,
+                          d + samples_[foot].height, max_step) ||
+          !levelBeyond(points, filled, samples_[top].x, y, step, K, col_map, row_map, plane, s))
+        continue;
+      RowEdge e;
+      e.road = footAt(foot, foot + 1);
+      edges_[side].push_back(e);
     }
   }
   fitSide(edges_[0], K, frame, s, true, left);

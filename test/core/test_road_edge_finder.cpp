@@ -1,6 +1,8 @@
 // Road edges from depth: a kerb and its sidewalk found where the road ends, whatever they look
 // like; cars beside the road, a vehicle's rear face, missing and sparse depth are no kerb.
+#include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -74,6 +76,64 @@ TEST(RoadEdgeFinder, KerbRisesFromACamberedGutter) {
   f.find(scene, scene.render());
   ASSERT_TRUE(f.right.found);
   for (const auto& px : f.right.pixels) EXPECT_NEAR(lateralOf(scene, px), 2.5, 0.1) << px;
+}
+
+// A surface rising by @p rise over @p width from the lateral position @p x0 (m, right), flat
+// beyond: a rolled kerb, a verge. (The scene's surface must slope less than about 0.6 here: it
+// is found by a fixed-point iteration along each pixel ray.)
+std::function<double(double)> ramp(double x0, double width, double rise) {
+  return [=](double x) { return -rise * std::min(1.0, std::max(0.0, (x - x0) / width)); };
+}
+
+TEST(RoadEdgeFinder, RolledKerbEndsTheRoadAtItsToe) {
+  // no step between neighbouring points: 12 cm over 0.3-0.6 m, 2.5 m right of the camera
+  for (double width : {0.3, 0.45, 0.6}) {
+    Scene scene;
+    scene.camber = ramp(2.5, width, 0.12);
+    Fixture f;
+    f.find(scene, scene.render());
+    ASSERT_TRUE(f.right.found) << width;
+    EXPECT_FALSE(f.left.found);
+    EXPECT_NEAR(f.right.offset, -2.5, 0.08) << width;
+    ASSERT_GE(f.right.pixels.size(), 8u);
+    // at the toe, where the road ends, not up the rise (half-way: 2.5 + width / 2)
+    for (const auto& px : f.right.pixels) EXPECT_NEAR(lateralOf(scene, px), 2.5, 0.1) << px;
+    for (size_t i = 1; i < f.right.pixels.size(); ++i)
+      EXPECT_LE(f.right.pixels[i].y, f.right.pixels[i - 1].y);  // near to far
+  }
+}
+
+TEST(RoadEdgeFinder, VergeRisingBeyondAGutterEndsTheRoadAtTheGutter) {
+  // the road falls 6 cm toward a gutter 2.3 m left over its last metre, and a grass verge
+  // rises 15 cm from it over 0.5 m, with LiDAR-like noise
+  Scene scene;
+  scene.camber = [](double x) {
+    if (x > -1.3) return 0.0;
+    if (x > -2.3) return 0.06 * (-1.3 - x);
+    return 0.06 - 0.15 * std::min(1.0, (-2.3 - x) / 0.5);
+  };
+  scene.noise = 0.005;
+  Fixture f;
+  f.find(scene, scene.render());
+  ASSERT_TRUE(f.left.found);
+  EXPECT_FALSE(f.right.found);
+  EXPECT_NEAR(f.left.offset, 2.3, 0.1);
+}
+
+TEST(RoadEdgeFinder, ACrownRutsAndALoneBumpAreNoEdge) {
+  // a road crowned 4 cm over 1.75 m to the left, 2.5 cm ruts under the wheels (+-0.8 m), and a
+  // seam's rim 6 cm high and 10 cm wide 2 m right: nothing rises to stay
+  Scene scene;
+  scene.camber = [](double x) {
+    const double crown = x < 0.0 ? 0.04 * std::min(1.0, -x / 1.75) : 0.0;
+    const double rut = 0.025 * std::max(0.0, 1.0 - std::fabs(std::fabs(x) - 0.8) / 0.25);
+    const double rim = std::fabs(x - 2.05) < 0.05 ? 0.06 : 0.0;
+    return rut - crown - rim;
+  };
+  Fixture f;
+  f.find(scene, scene.render());
+  EXPECT_FALSE(f.left.found);
+  EXPECT_FALSE(f.right.found);
 }
 
 TEST(RoadEdgeFinder, CarsAndARearFaceAreNoKerb) {
