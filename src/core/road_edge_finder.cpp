@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rgbd_lane_detector/fals_normals.h"
 
@@ -89,7 +90,11 @@ int footOf(const std::vector<RoadEdgeFinder::RowSample>& samples, int top) {
 bool gradualRise(const std::vector<RoadEdgeFinder::RowSample>& samples, float kerb,
                  double offset_min, int& foot, int& top) {
   const int count = static_cast<int>(samples.size());
+  float lowest = std::numeric_limits<float>::infinity();  // of the points inward of j
   for (int j = 0; j < count; ++j) {
+    const float below = lowest;
+    lowest = std::min(lowest, samples[j].height);
+    if (samples[j].height - below < kerb) continue;  // (no foot of it anywhere inward)
     const int f = footOf(samples, j);
     if (f < 0 || samples[j].height - samples[f].height < kerb ||
         std::fabs(samples[f].height) > kMaxCamber || samples[f].lateral < offset_min)
