@@ -157,7 +157,7 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
     const int stride = std::max(1, static_cast<int>(kColumnSpacing * ppm));
     for (int side = 0; side < 2; ++side) {
       const int step = side == 0 ? -stride : stride;
-      int road_run = 0, raised_run = 0, first_raised = -1;
+      int road_run = 0, raised_run = 0, last_road = -1, first_raised = -1;
       bool stepped = false;
       samples_.clear();
       // a rise's foot in road coordinates, between the road point i and the point j outward of
@@ -191,6 +191,7 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
             road_run = 0;
           }
           ++road_run;
+          last_road = static_cast<int>(samples_.size()) - 1;
           local += kCamberGain * (h - local);
         } else if (h - local >= kerb && road_run >= kRoadRun) {
           if (raised_run++ == 0) first_raised = static_cast<int>(samples_.size()) - 1;
@@ -200,7 +201,9 @@ void RoadEdgeFinder::find(const cv::Mat& points, const cv::Mat* filled, const cv
             const cv::Vec3f& b = row[samples_[first_raised].x];
             const int foot = footOf(samples_, first_raised);
             RowEdge e;
-            e.road = footAt(foot, foot + 1);
+            // (with no point measured within kRiseReach inward, between the last road point and
+            // the first raised one)
+            e.road = foot >= 0 ? footAt(foot, foot + 1) : footAt(last_road, first_raised);
             // a sidewalk stays low beyond its kerb, and its top is level; a car's or a truck's
             // side rises, its rear face is vertical
             if (sidewalkBeyond(row, fill, x + step, step, points.cols, b[0], n, d + local,

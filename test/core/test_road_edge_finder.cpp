@@ -161,6 +161,24 @@ TEST(RoadEdgeFinder, SparseAndNoisyDepthStillFindTheKerb) {
   EXPECT_FALSE(f.right.found);
 }
 
+TEST(RoadEdgeFinder, KerbBeyondUnmeasuredRoad) {
+  // no depth on the last 0.8 m of road before a 0.12 m kerb 2.6 m right, nor on its face (a
+  // LiDAR's gap): no point within a rise's reach of its top, the foot lies somewhere in the
+  // unmeasured stretch
+  Scene scene;
+  scene.boxes = {{2.6, 5.6, 0.0, 200.0, 0.12}};
+  scene.hole = [&scene](int u, int v) {
+    if (v <= kK.cy + 2) return false;
+    const double x = lateralOf(scene, cv::Point2f(static_cast<float>(u), static_cast<float>(v)));
+    return x > 1.8 && x < 2.9;  // (the face's pixels meet the road up to 2.83 m)
+  };
+  Fixture f;
+  f.find(scene, scene.render());
+  ASSERT_TRUE(f.right.found);
+  EXPECT_GE(-f.right.offset, 1.8);
+  EXPECT_LE(-f.right.offset, 2.6);
+}
+
 TEST(RoadEdgeFinder, NothingWithoutDepthOrPlane) {
   Scene scene;
   scene.boxes = {{2.6, 5.6, 0.0, 200.0, 0.12}};
