@@ -398,6 +398,8 @@ int main(int argc, char** argv) {
     int style_scored = 0, style_right = 0, colour_scored = 0, colour_right = 0;
     int planes = 0, planes_within = 0, planes_missing = 0;
     int model_frames = 0, model_valid = 0, model_labelled = 0, model_right = 0, model_wrong = 0;
+    int model_style_scored = 0, model_style_right = 0, model_colour_scored = 0,
+        model_colour_right = 0;
     std::vector<double> jumps;
     double ms = 0.0;
   };
@@ -438,6 +440,8 @@ int main(int argc, char** argv) {
         t.model_labelled += s->labelled;
         t.model_right += s->correct;
         t.model_wrong += s->wrong;
+        if (s->style_right >= 0) ++t.model_style_scored, t.model_style_right += s->style_right;
+        if (s->colour_right >= 0) ++t.model_colour_scored, t.model_colour_right += s->colour_right;
       }
       if (previous && previous->sequence && previous->dataset == r.dataset &&
           previous->depth == r.depth && previous->mode == r.mode)
@@ -451,9 +455,10 @@ int main(int argc, char** argv) {
   std::ostringstream md;
   md << "| set | depth | variant | mode | frames | labelled sides | right | wrong | missed | "
         "no-lane frames clean | solid/dashed right | colour right | plane within 1.5 deg | "
-        "lane model valid | model sides right / wrong | model c0 change p95 (m) | ms/frame |\n";
+        "lane model valid | model sides right / wrong | model solid/dashed right | model colour "
+        "right | model c0 change p95 (m) | ms/frame |\n";
   md << "| --- | --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | "
-        "---: | ---: | ---: | ---: |\n";
+        "---: | ---: | ---: | ---: | ---: | ---: |\n";
   for (auto& [key, t] : tallies) {
     std::string p95 = "-";
     if (!t.jumps.empty()) {
@@ -472,6 +477,14 @@ int main(int argc, char** argv) {
        << (t.model_frames ? pct(t.model_valid, t.model_frames) : std::string("-")) << " | "
        << (t.model_frames ? pct(t.model_right, t.model_labelled) + " / " +
                                 pct(t.model_wrong, t.model_labelled)
+                          : std::string("-"))
+       << " | "
+       << (t.model_frames ? std::to_string(t.model_style_right) + " of " +
+                                std::to_string(t.model_style_scored)
+                          : std::string("-"))
+       << " | "
+       << (t.model_frames ? std::to_string(t.model_colour_right) + " of " +
+                                std::to_string(t.model_colour_scored)
                           : std::string("-"))
        << " | " << p95 << " | " << fmt(t.ms / std::max(1, t.frames), "%.1f") << " |\n";
   }
@@ -502,7 +515,8 @@ int main(int argc, char** argv) {
            "left_fraction,left_correct,left_style_right,left_colour_right,right_labelled,"
            "right_reported,right_kind,right_fraction,right_correct,right_style_right,"
            "right_colour_right,plane,plane_angle_deg,plane_offset_m,model_valid,"
-           "model_left_correct,model_right_correct,model_c0_left,model_c0_right,ms\n";
+           "model_left_correct,model_right_correct,model_left_style_right,model_left_colour_right,"
+           "model_right_style_right,model_right_colour_right,model_c0_left,model_c0_right,ms\n";
     const auto scored = [](int v) { return v < 0 ? std::string() : std::to_string(v); };
     for (const Row& r : rows) {
       out << r.dataset << "," << r.frame << "," << r.depth << "," << r.variant << "," << r.mode
@@ -514,7 +528,10 @@ int main(int argc, char** argv) {
             << scored(s->colour_right);
       out << "," << r.plane << "," << fmt(r.plane_angle, "%.3f") << ","
           << fmt(r.plane_offset, "%.4f") << "," << r.model_valid << "," << r.model.left.correct
-          << "," << r.model.right.correct << "," << fmt(r.c0[0], "%.3f") << ","
+          << "," << r.model.right.correct;
+      for (const tools::RealSideScore* s : {&r.model.left, &r.model.right})
+        out << "," << scored(s->style_right) << "," << scored(s->colour_right);
+      out << "," << fmt(r.c0[0], "%.3f") << ","
           << fmt(r.c0[1], "%.3f") << "," << fmt(r.ms) << "\n";
     }
   }
