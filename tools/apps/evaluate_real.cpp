@@ -393,13 +393,18 @@ int main(int argc, char** argv) {
   }
 
   // Summary: per set (frame sets together, each sequence on its own), depth, variant and mode
+  struct Typing {  // solid/dashed and colour of the sides right where scored
+    int style_scored = 0, style_right = 0, colour_scored = 0, colour_right = 0;
+    void add(const tools::RealSideScore& s) {
+      if (s.style_right >= 0) ++style_scored, style_right += s.style_right;
+      if (s.colour_right >= 0) ++colour_scored, colour_right += s.colour_right;
+    }
+  };
   struct Tally {
     int frames = 0, labelled = 0, right = 0, wrong = 0, missed = 0, negatives = 0, clean = 0;
-    int style_scored = 0, style_right = 0, colour_scored = 0, colour_right = 0;
+    Typing typing, model_typing;
     int planes = 0, planes_within = 0, planes_missing = 0;
     int model_frames = 0, model_valid = 0, model_labelled = 0, model_right = 0, model_wrong = 0;
-    int model_style_scored = 0, model_style_right = 0, model_colour_scored = 0,
-        model_colour_right = 0;
     std::vector<double> jumps;
     double ms = 0.0;
   };
@@ -421,8 +426,7 @@ int main(int argc, char** argv) {
       t.right += s->correct;
       t.wrong += s->wrong;
       t.missed += s->missed;
-      if (s->style_right >= 0) ++t.style_scored, t.style_right += s->style_right;
-      if (s->colour_right >= 0) ++t.colour_scored, t.colour_right += s->colour_right;
+      t.typing.add(*s);
     }
     if (!r.lane) {
       ++t.negatives;
@@ -440,8 +444,7 @@ int main(int argc, char** argv) {
         t.model_labelled += s->labelled;
         t.model_right += s->correct;
         t.model_wrong += s->wrong;
-        if (s->style_right >= 0) ++t.model_style_scored, t.model_style_right += s->style_right;
-        if (s->colour_right >= 0) ++t.model_colour_scored, t.model_colour_right += s->colour_right;
+        t.model_typing.add(*s);
       }
       if (previous && previous->sequence && previous->dataset == r.dataset &&
           previous->depth == r.depth && previous->mode == r.mode)
@@ -452,6 +455,7 @@ int main(int argc, char** argv) {
     previous = &r;
   }
   auto pct = [](int a, int b) { return b ? fmt(100.0 * a / b, "%.0f%%") : std::string("-"); };
+  auto of = [](int a, int b) { return std::to_string(a) + " of " + std::to_string(b); };
   std::ostringstream md;
   md << "| set | depth | variant | mode | frames | labelled sides | right | wrong | missed | "
         "no-lane frames clean | solid/dashed right | colour right | plane within 1.5 deg | "
@@ -469,9 +473,9 @@ int main(int argc, char** argv) {
     }
     md << "| " << key << " | " << t.frames << " | " << t.labelled << " | " << t.right << " ("
        << pct(t.right, t.labelled) << ") | " << t.wrong << " (" << pct(t.wrong, t.labelled)
-       << ") | " << t.missed << " | " << t.clean << " of " << t.negatives << " | "
-       << t.style_right << " of " << t.style_scored << " | " << t.colour_right << " of "
-       << t.colour_scored << " | " << t.planes_within << " of " << t.planes
+       << ") | " << t.missed << " | " << of(t.clean, t.negatives) << " | "
+       << of(t.typing.style_right, t.typing.style_scored) << " | "
+       << of(t.typing.colour_right, t.typing.colour_scored) << " | " << of(t.planes_within, t.planes)
        << (t.planes_missing ? " (" + std::to_string(t.planes_missing) + " none)" : std::string())
        << " | "
        << (t.model_frames ? pct(t.model_valid, t.model_frames) : std::string("-")) << " | "
@@ -479,12 +483,10 @@ int main(int argc, char** argv) {
                                 pct(t.model_wrong, t.model_labelled)
                           : std::string("-"))
        << " | "
-       << (t.model_frames ? std::to_string(t.model_style_right) + " of " +
-                                std::to_string(t.model_style_scored)
+       << (t.model_frames ? of(t.model_typing.style_right, t.model_typing.style_scored)
                           : std::string("-"))
        << " | "
-       << (t.model_frames ? std::to_string(t.model_colour_right) + " of " +
-                                std::to_string(t.model_colour_scored)
+       << (t.model_frames ? of(t.model_typing.colour_right, t.model_typing.colour_scored)
                           : std::string("-"))
        << " | " << p95 << " | " << fmt(t.ms / std::max(1, t.frames), "%.1f") << " |\n";
   }
