@@ -183,7 +183,8 @@ class BoundaryClassifier {
    * @param[in] left side of the vehicle it is on.
    * @param[in] p thresholds (paint_contrast, paint_width_min/max).
    * @param[out] coverage share of the measured length with paint, -1 when less than 3 m of it
-   *             could be measured.
+   *             could be measured (a row without paint whose two sides differ by a shadow's
+   *             ratio, where paint in the shade may not stand out, is not measured).
    * @param[out] yellowness 1 - B'/((R' + G') / 2) of the paint's colour relative to the road
    *             beside it (white about 0, yellow 0.3 and more; the median of its rows of paint
    *             width, or with fewer than 3 of them also of its worn, narrower rows), -1 with

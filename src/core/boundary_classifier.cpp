@@ -468,12 +468,18 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     const double fb = forward(pixels[k + stride < n ? k + stride : k]);
     const double weight = std::isfinite(fa) && std::isfinite(fb) ? 0.5 * std::fabs(fb - fa) : 0.0;
     if (!(weight > 0.0) || !profile_.measureRow(in, pixels[k], left, p, cos_heading, m)) continue;
-    total += weight;
     // paint here: a band of paint width on the line, or, where the pixels cannot resolve its
     // width, a bright enough peak
     const Band* band = m.paint;
     if (band && std::fabs(0.5 * (band->lo + band->hi)) > kCoverageReach * m.ppm) band = nullptr;
     const bool paint = band || (m.ppm < kWidthPixelsPerMetre && m.peak - m.top >= m.contrast);
+    // no paint on a row whose sides are a shadow's ratio apart (a shadow's edge across the line,
+    // a vehicle's dark flank or its shade beside it) is no gap either: paint in the shade need
+    // not stand above the sunlit side, which sets the contrast (a solid line under dappled shade
+    // read as dashes); such a row is left out of the measured length
+    const bool shaded_side =
+        m.top >= kShadowRatio * std::max(std::min(m.bg[0], m.bg[1]), 1.0f);
+    if (paint || !shaded_side) total += weight;
     if (paint) covered += weight;
     // the paint's colour: on its bands of paint width, else where it is worn narrower (a worn
     // line's core, counted only where fewer than 3 rows have paint width)

@@ -339,6 +339,36 @@ TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashed) {
   EXPECT_NEAR(coverage, 0.25f, 0.1f) << "3 m of paint every 12 m";
 }
 
+// A white line 1.8 m left (solid, or 3 m dashes every 12 m) under dappled shade: bands of shade
+// 2 m long every 4 m, crossing the line obliquely (their edges run 2 m along the road per metre
+// across it), so that on most rows one side of the line is sunlit and the other shaded. The
+// paint is 1.5x its road in the sun and in the shade, and in the shade darker than the sunlit
+// road.
+CrossSection lineUnderDappledShade(bool dashed) {
+  CrossSection cs;
+  cs.colour = [dashed](double x, double z) {
+    const bool shade = std::fmod(z + 2.0 * x + 100.0, 4.0) < 2.0;
+    if (std::fabs(x + 1.8) < 0.075 && (!dashed || std::fmod(z, 12.0) < 3.0))
+      return shade ? grey(75) : grey(225);
+    return shade ? grey(50) : grey(150);
+  };
+  return cs;
+}
+
+TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashedUnderDappledShade) {
+  // a row with no paint between a sunlit and a shaded side is no gap: the shaded paint stands
+  // above its own side, not above the sunlit one that sets the contrast
+  Fixture f;
+  float coverage = 0.f, yellowness = 0.f;
+  f.classify(lineUnderDappledShade(false), linePixels(-1.8), true);
+  f.measure(true, coverage, yellowness);
+  EXPECT_GT(coverage, Params::improved().dashed_coverage) << "solid";
+  f.classify(lineUnderDappledShade(true), linePixels(-1.8), true);
+  f.measure(true, coverage, yellowness);
+  EXPECT_GE(coverage, 0.0f) << "enough road measured";
+  EXPECT_LT(coverage, 0.5f) << "3 m of paint every 12 m";
+}
+
 TEST(BoundaryClassifier, NothingWithoutAPlane) {
   CrossSection cs;
   Fixture f;
