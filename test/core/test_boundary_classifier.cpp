@@ -30,6 +30,13 @@ struct Fixture : RenderedRoad {
   void measure(bool left, float& coverage, float& yellowness) {
     classifier.measurePaint(in, pixels, left, Params::improved(), coverage, yellowness);
   }
+  // measurePaint()'s coverage of the line x = @p x (m) of the rendered road @p cs
+  float coverageOf(const CrossSection& cs, double x) {
+    float coverage = 0.f, yellowness = 0.f;
+    classify(cs, linePixels(x), x < 0.0);
+    measure(x < 0.0, coverage, yellowness);
+    return coverage;
+  }
   std::vector<cv::Point2f> pixels;
 };
 
@@ -253,14 +260,17 @@ TEST(BoundaryClassifier, LineAboveTheRoadIsNoBoundary) {
   EXPECT_GT(f.ev.line_height, 0.9f);
 }
 
-// A solid white line on the left, a yellow one on the right (solid, or 3 m dashes every 12 m).
+// (x, z) on the road is paint of a 15 cm line at x = @p centre: solid, or 3 m dashes every 12 m.
+bool onLine(double x, double z, double centre, bool dashed) {
+  return std::fabs(x - centre) < 0.075 && (!dashed || std::fmod(z, 12.0) < 3.0);
+}
+
+// A solid white line on the left, a yellow one on the right (solid, or dashed).
 CrossSection whiteAndYellow(bool dashed) {
   CrossSection cs;
   cs.colour = [dashed](double x, double z) {
-    if (std::fabs(x + 1.8) < 0.075) return grey(220);
-    if (std::fabs(x - 1.8) < 0.075 && (!dashed || std::fmod(z, 12.0) < 3.0))
-      return cv::Vec3b(204, 158, 36);
-    return grey(90);
+    if (onLine(x, z, -1.8, false)) return grey(220);
+    return onLine(x, z, 1.8, dashed) ? cv::Vec3b(204, 158, 36) : grey(90);
   };
   return cs;
 }
@@ -330,13 +340,8 @@ TEST(BoundaryClassifier, MeasurePaintTakesTheColourOfPaintWornNarrow) {
 
 TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashed) {
   Fixture f;
-  float coverage = 0.f, yellowness = 0.f;
-  f.classify(whiteAndYellow(true), linePixels(-1.8), true);
-  f.measure(true, coverage, yellowness);
-  EXPECT_GT(coverage, 0.9f) << "solid";
-  f.classify(whiteAndYellow(true), linePixels(1.8), false);
-  f.measure(false, coverage, yellowness);
-  EXPECT_NEAR(coverage, 0.25f, 0.1f) << "3 m of paint every 12 m";
+  EXPECT_GT(f.coverageOf(whiteAndYellow(true), -1.8), 0.9f) << "solid";
+  EXPECT_NEAR(f.coverageOf(whiteAndYellow(true), 1.8), 0.25f, 0.1f) << "3 m of paint every 12 m";
 }
 
 // A white line 1.8 m left (solid, or 3 m dashes every 12 m) under dappled shade: bands of shade
@@ -348,9 +353,8 @@ CrossSection lineUnderDappledShade(bool dashed) {
   CrossSection cs;
   cs.colour = [dashed](double x, double z) {
     const bool shade = std::fmod(z + 2.0 * x + 100.0, 4.0) < 2.0;
-    if (std::fabs(x + 1.8) < 0.075 && (!dashed || std::fmod(z, 12.0) < 3.0))
-      return shade ? grey(75) : grey(225);
-    return shade ? grey(50) : grey(150);
+    const bool paint = onLine(x, z, -1.8, dashed);
+    return shade ? grey(paint ? 75 : 50) : grey(paint ? 225 : 150);
   };
   return cs;
 }
@@ -359,14 +363,11 @@ TEST(BoundaryClassifier, MeasurePaintTellsSolidFromDashedUnderDappledShade) {
   // a row with no paint between a sunlit and a shaded side is no gap: the shaded paint stands
   // above its own side, not above the sunlit one that sets the contrast
   Fixture f;
-  float coverage = 0.f, yellowness = 0.f;
-  f.classify(lineUnderDappledShade(false), linePixels(-1.8), true);
-  f.measure(true, coverage, yellowness);
-  EXPECT_GT(coverage, Params::improved().dashed_coverage) << "solid";
-  f.classify(lineUnderDappledShade(true), linePixels(-1.8), true);
-  f.measure(true, coverage, yellowness);
-  EXPECT_GE(coverage, 0.0f) << "enough road measured";
-  EXPECT_LT(coverage, 0.5f) << "3 m of paint every 12 m";
+  EXPECT_GT(f.coverageOf(lineUnderDappledShade(false), -1.8), Params::improved().dashed_coverage)
+      << "solid";
+  const float dashed = f.coverageOf(lineUnderDappledShade(true), -1.8);
+  EXPECT_GE(dashed, 0.0f) << "enough road measured";
+  EXPECT_LT(dashed, 0.5f) << "3 m of paint every 12 m";
 }
 
 TEST(BoundaryClassifier, NothingWithoutAPlane) {
