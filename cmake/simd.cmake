@@ -2,13 +2,18 @@
 # (Debian 12: libhwy-dev), plain C++ loops otherwise (Ubuntu 20.04 has no libhwy-dev and rosdep
 # no key for it). Used by the catkin build and by the aarch64 cross build (cmake/arm64).
 find_package(hwy QUIET)
+if(hwy_FOUND AND hwy_VERSION VERSION_LESS 1.0)
+  # (the kernels use 1.0's ops and targets; 1.0.3, Debian 12's, is the version built and tested)
+  message(WARNING "Highway ${hwy_VERSION} is older than 1.0: not used.")
+  set(hwy_FOUND FALSE)
+endif()
 if(hwy_FOUND)
   message(STATUS "Highway ${hwy_VERSION}: SIMD kernels dispatched at run time (x86: SSE4, AVX2, "
                  "AVX-512; aarch64: NEON; the plain loops elsewhere)")
 else()
   message(WARNING "Highway (libhwy-dev) not found: the detector's kernels are plain C++ loops, "
-                  "about 5x slower than with it. Install libhwy-dev (Debian 12, Ubuntu 22.04+) "
-                  "for the SIMD path.")
+                  "about 5x slower than with it. Install libhwy-dev 1.0 or later (Debian 12 "
+                  "has 1.0.3) for the SIMD path.")
 endif()
 
 # Compile a target's kernels: its private headers (src/core), no FMA contraction (every target

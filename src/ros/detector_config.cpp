@@ -1,7 +1,9 @@
 #include "detector_config.h"
 
+#include <cmath>
 #include <utility>
 
+#include "rgbd_lane_detector/params_io.h"
 #include "rgbd_lane_detector/ros/conversions.h"
 
 namespace rgbd_lane_detector {
@@ -22,6 +24,24 @@ ModePreset applyModePreset(ros::NodeHandle& pnh, const std::string& mode) {
   conv::paramsToConfig(preset_params, preset);
   conv::paramsToConfig(other_params, other);
   for (const auto& param : LaneDetectorConfig::__getParamDescriptions__()) {
+    std::string text;
+    if (pnh.getParam(param->name, text)) {  // (a string only)
+      // the value the core's parameter files take for this text (setParamText()'s one table)
+      Params scratch;
+      double value = 0.0;
+      if (setParamText(scratch, param->name, text) && getParam(scratch, param->name, value)) {
+        if (param->type == "int")
+          pnh.setParam(param->name, static_cast<int>(std::lround(value)));
+        else if (param->type == "bool")
+          pnh.setParam(param->name, value != 0.0);
+        else
+          pnh.setParam(param->name, value);
+        result.converted += " " + param->name;
+      } else {
+        result.invalid += " " + param->name + "='" + text + "'";
+        pnh.deleteParam(param->name);
+      }
+    }
     if (!pnh.hasParam(param->name)) {
       param->toServer(pnh, preset);
       continue;

@@ -26,17 +26,24 @@ struct ModePreset {
   std::string mode;        ///< the preset applied (improved when the requested one is unknown)
   bool known = true;       ///< false: the requested mode was unknown
   std::string overridden;  ///< " name" per given parameter that differs between the presets
+  std::string converted;   ///< " name" per parameter given as text (an enum's name) and converted
+  std::string invalid;     ///< " name='text'" per parameter whose text is no value of it
   /// The log line ("Mode 'improved': preset values for the parameters not given...").
   std::string text() const {
     return "Mode '" + mode + "': preset values for the parameters not given" +
-           (overridden.empty() ? "" : "; given explicitly, overriding the preset:" + overridden);
+           (overridden.empty() ? "" : "; given explicitly, overriding the preset:" + overridden) +
+           (converted.empty() ? "" : "; given by name:" + converted);
   }
 };
 
 /**
  * @brief Write @p mode's preset value of every detector parameter not on the server into
  * @p pnh's namespace (the dynamic_reconfigure server reads them from there); explicit
- * private parameters win (as loadParamsYaml: preset, then keys).
+ * private parameters win (as loadParamsYaml: preset, then keys). A parameter given as text (an
+ * enum by its name, `plane_fit: road_surface`, as parameter files for the core take it) is put
+ * back as the number dynamic_reconfigure reads, which would otherwise ignore it without a word;
+ * text that is no value of the parameter is removed (the preset's value is used) and listed in
+ * ModePreset::invalid for the caller's error.
  */
 ModePreset applyModePreset(ros::NodeHandle& pnh, const std::string& mode);
 

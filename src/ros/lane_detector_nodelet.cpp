@@ -62,6 +62,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     const ModePreset preset = applyModePreset(pnh, params_.mode);
     if (!preset.known)
       NODELET_ERROR("Unknown mode '%s' (expected improved or paper): improved", params_.mode.c_str());
+    if (!preset.invalid.empty())
+      NODELET_ERROR("Parameters whose value is none of theirs (the mode's value is used):%s",
+                    preset.invalid.c_str());
     NODELET_INFO("%s", preset.text().c_str());
     reconfigure_.reset(new DetectorReconfigure(pnh, [this](const Params& p, int unmapped) {
       if (unmapped != 0)

@@ -80,6 +80,30 @@ TEST(LaneDetectorRos, RunsTheImprovedPresetByDefault) {
   EXPECT_TRUE(classify) << "mode " << mode;
 }
 
+// Detector parameters given as text (enum_parameters.test: `depth_term: far_high`, as the README
+// and parameter files name the enums; `plane_fit: three_points`, no value of it) are on the server
+// as the integers dynamic_reconfigure reads: it would ignore the strings without a word and keep
+// its own defaults, here depth_term 0. The expected values are the test's ~expected_* parameters
+// (elsewhere the mode's preset, which the node writes as integers itself).
+TEST(LaneDetectorRos, EnumParametersGivenByNameBecomeTheirValues) {
+  g->prepare();
+  std::string mode = "(unset)";
+  ros::param::get(g->detector + "/mode", mode);
+  const Params preset = mode == "paper" ? Params::paper() : Params::improved();
+  ros::NodeHandle pnh("~");
+  int expected_depth_term = 0, expected_plane_fit = 0;
+  pnh.param("expected_depth_term", expected_depth_term, static_cast<int>(preset.depth_term));
+  pnh.param("expected_plane_fit", expected_plane_fit, static_cast<int>(preset.plane_fit));
+  int plane_fit = -1, depth_term = -1;
+  const std::string& d = g->detector;
+  ASSERT_TRUE(waitFor([&] {
+    return ros::param::get(d + "/plane_fit", plane_fit) &&
+           ros::param::get(d + "/depth_term", depth_term);
+  })) << "plane_fit and depth_term never both reached the parameter server as integers";
+  EXPECT_EQ(depth_term, expected_depth_term) << "mode " << mode;
+  EXPECT_EQ(plane_fit, expected_plane_fit) << "mode " << mode;
+}
+
 TEST(LaneDetectorRos, LazySubscription) {
   g->prepare();
   // the detector is up (outputs advertised) but nobody listens: no input subscriptions
