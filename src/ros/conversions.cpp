@@ -156,6 +156,11 @@ bool sameCamera(const Intrinsics& a, const Intrinsics& b, double tolerance) {
          std::abs(a.cx - b.cx) <= limit && std::abs(a.cy - b.cy) <= limit;
 }
 
+std::string tfFrameId(const std::string& frame_id) {
+  const size_t first = frame_id.find_first_not_of('/');
+  return first == std::string::npos ? std::string() : frame_id.substr(first);
+}
+
 sensor_msgs::CameraInfo cameraInfoFromIntrinsics(const Intrinsics& K, int width, int height,
                                                  const std_msgs::Header& header) {
   sensor_msgs::CameraInfo info;

@@ -28,7 +28,13 @@ bool FrameProcessor::prepare(const sensor_msgs::CameraInfo& info,
   prepared_size_ = size;
   prepared_K_ = K;
   const auto start = std::chrono::steady_clock::now();
-  if (detector_.prepare(size, K) != Status::kOk) return false;  // its frames will be dropped
+  out.error.clear();
+  try {
+    if (detector_.prepare(size, K) != Status::kOk) return false;  // its frames will be dropped
+  } catch (const std::exception& e) {  // never expected (a corrupt camera_info?): not a crash
+    out.error = e.what();
+    return false;
+  }
   out.size = size;
   out.K = K;
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)

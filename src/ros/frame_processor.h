@@ -32,6 +32,7 @@ class FrameProcessor {
     Intrinsics K;
     double ms = 0.0;  ///< LaneDetector::prepare()'s wall time
     std::string warning;  ///< a raw (distorted) image on a topic that is not a rectified one
+    std::string error;    ///< LaneDetector::prepare() threw (its text); the frames are dropped
   };
 
   /// @param params the initial parameters (already sanitised), applied at once.

@@ -117,6 +117,12 @@ bool InputSynchroniser::accept(size_t input, const ros::Time& stamp) {
   const StampJumpDetector::Verdict verdict =
       jumps_.update(input, static_cast<int64_t>(stamp.toNSec()));
   if (verdict == StampJumpDetector::Verdict::kStale) return false;  // from before the last jump
+  if (verdict == StampJumpDetector::Verdict::kOutOfOrder) {
+    static const char* const kNames[kInputs] = {"colour image", "depth image", "camera_info"};
+    if (callbacks_.out_of_order)
+      callbacks_.out_of_order(kNames[input], static_cast<double>(jumps_.lastOutOfOrderNs()) * 1e-9);
+    return false;
+  }
   if (verdict == StampJumpDetector::Verdict::kCurrent) return true;
   // Time went back (rosbag loop, a camera clock restarting): the images synchronised from now
   // on are this epoch's only

@@ -61,6 +61,9 @@ class InputSynchroniser {
         frame;
     /// Stamps went back (after the synchroniser was replaced, before the message passes on).
     std::function<void(const Jump&)> jumped;
+    /// A message dropped for a stamp less than StampJumpDetector::kMinJumpNs before its input's
+    /// latest (out of order: no jump); @p input names the topic, @p seconds_back how far.
+    std::function<void(const char* input, double seconds_back)> out_of_order;
   };
 
   InputSynchroniser(bool approximate, int queue_size, Callbacks callbacks);

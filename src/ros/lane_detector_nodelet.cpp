@@ -19,6 +19,7 @@
 #include "lane_outputs.h"
 #include "node_diagnostics.h"
 #include "node_params.h"
+#include "rgbd_lane_detector/ros/conversions.h"
 
 namespace rgbd_lane_detector {
 
@@ -100,6 +101,12 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
       transforms_->reset();  // odometry start, the tf buffer's dynamic transforms
       if (jump.log) NODELET_WARN("%s", jump.text(tf_buffer_ != nullptr).c_str());
     };
+    in.out_of_order = [this](const char* input, double seconds_back) {
+      NODELET_WARN_THROTTLE(kThrottle,
+                            "Dropping a %s stamped %.3f s before the one received before it "
+                            "(out of order; a step back of %.1f s or more restarts tracking)",
+                            input, seconds_back, StampJumpDetector::kMinJumpNs * 1e-9);
+    };
     inputs_.reset(new InputSynchroniser(params_.approximate_sync, params_.queue_size, in));
 
     // Advertise under the connect mutex so that connectCb, which may run as soon as the first
@@ -128,7 +135,12 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
   /// Every camera_info, before its frame can be synchronised: a new camera prepares the detector.
   void prepare(const CameraInfo& info) {
     FrameProcessor::Preparation p;
-    if (!processor_.prepare(info, inputs_->colourTopic(), p)) return;
+    if (!processor_.prepare(info, inputs_->colourTopic(), p)) {
+      if (!p.error.empty())
+        NODELET_ERROR_THROTTLE(kThrottle, "Preparing the detector for a %ux%u camera failed: %s",
+                               info.width, info.height, p.error.c_str());
+      return;
+    }
     if (!p.warning.empty()) NODELET_WARN("%s", p.warning.c_str());
     NODELET_INFO("Detector prepared for %dx%d frames in %.1f ms (fx %.3f, fy %.3f, cx %.3f, cy %.3f)",
                  p.size.width, p.size.height, p.ms, p.K.fx, p.K.fy, p.K.cx, p.K.cy);
@@ -139,7 +151,22 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
                             const char*& detail) {
     const Wanted wanted = outputs_.wanted();
     if (!wanted.any()) return FrameOutcome::kSkipped;  // the last subscriber left meanwhile
-    LaneOutputs::Headers h{colour.header, colour.header, colour.header};
+    // the optical frame: tf2 names frames without a leading '/' (and warns at every lookup of
+    // one with it), and a frame without a name has no transform and no road frame under it
+    std_msgs::Header image = colour.header;
+    image.frame_id = conversions::tfFrameId(colour.header.frame_id);
+    const std::string& optical = image.frame_id;
+    if (optical.empty())
+      return drop(FrameOutcome::kBadMessage,
+                  "the colour image has no header.frame_id (the optical frame of the outputs)",
+                  colour, depth);
+    LaneOutputs::Headers h{image, image, image};
+    const std::string depth_frame = conversions::tfFrameId(depth.header.frame_id);
+    if (!depth_frame.empty() && depth_frame != optical)
+      NODELET_WARN_ONCE("The depth image is in frame '%s', the colour image in '%s': the depth "
+                        "must be registered to the colour camera, pixel for pixel "
+                        "(depth_image_proc/register, or the driver's aligned depth)",
+                        depth_frame.c_str(), optical.c_str());
     std::string why;
     Eigen::Vector3d up;
     const bool use_up = !params_.up_frame.empty();

@@ -48,6 +48,14 @@ TEST(Conversions, ColourEncodingsMapToPixelFormats) {
     EXPECT_FALSE(conv::pixelFormatFromEncoding(bad, f)) << bad;
 }
 
+TEST(Conversions, FrameIdsAsTf2NamesThem) {
+  EXPECT_EQ(conv::tfFrameId("camera_color_optical_frame"), "camera_color_optical_frame");
+  EXPECT_EQ(conv::tfFrameId("/camera_color_optical_frame"), "camera_color_optical_frame");
+  EXPECT_EQ(conv::tfFrameId("//camera/optical"), "camera/optical");
+  EXPECT_EQ(conv::tfFrameId("/"), "");
+  EXPECT_EQ(conv::tfFrameId(""), "");
+}
+
 TEST(Conversions, ColourIsReadInPlaceThroughStep) {
   sensor_msgs::Image msg = makeImage(enc::RGBA8, 7, 5, 4, 12);  // padded rows
   msg.data[2 * msg.step + 3 * 4 + 1] = 42;

@@ -82,6 +82,25 @@ TEST(StampJumpDetector, AnInputSeenFirstAfterAJumpJoinsTheCurrentEpoch) {
   EXPECT_EQ(Verdict::kJump, d.update(2, 1 * kS)) << "input 2 was in the current epoch";
 }
 
+// A driver's clock jittering back by a millisecond, or a message overtaken on the way, is no loop:
+// that message is out of order (dropped), nothing restarts, and the next ones are current. Half a
+// second back (kMinJumpNs) is a jump.
+TEST(StampJumpDetector, AStepBackShorterThanAJumpIsOutOfOrder) {
+  StampJumpDetector d(2);
+  const int64_t ms = kS / 1000;
+  d.update(0, 10 * kS);
+  d.update(1, 10 * kS);
+  EXPECT_EQ(Verdict::kOutOfOrder, d.update(0, 10 * kS - ms));
+  EXPECT_EQ(d.lastOutOfOrderNs(), ms);
+  EXPECT_EQ(Verdict::kOutOfOrder, d.update(0, 10 * kS - 499 * ms)) << "against the latest stamp";
+  EXPECT_EQ(d.jumps(), 0u);
+  EXPECT_EQ(Verdict::kCurrent, d.update(0, 10 * kS + 33 * ms));
+  EXPECT_EQ(Verdict::kCurrent, d.update(1, 10 * kS + 33 * ms));
+  EXPECT_EQ(Verdict::kJump, d.update(1, 10 * kS + 33 * ms - StampJumpDetector::kMinJumpNs));
+  EXPECT_EQ(d.lastJumpNs(), StampJumpDetector::kMinJumpNs);
+  EXPECT_EQ(d.jumps(), 1u);
+}
+
 TEST(StampJumpDetector, UnknownInputsAreIgnored) {
   StampJumpDetector d(1);
   EXPECT_EQ(Verdict::kCurrent, d.update(5, 3 * kS));

@@ -91,6 +91,10 @@ bool hasDistortion(const sensor_msgs::CameraInfo& info);
  */
 bool sameCamera(const Intrinsics& a, const Intrinsics& b, double tolerance = 1e-3);
 
+/// @p frame_id as tf2 names frames: without tf1's leading '/' ("/camera_optical" ->
+/// "camera_optical"; tf2 warns at every lookup of a name with it). Empty stays empty.
+std::string tfFrameId(const std::string& frame_id);
+
 /**
  * @brief camera_info of an undistorted pinhole camera (the inverse of
  * intrinsicsFromCameraInfo()): K and P from @p K, R identity, plumb_bob with zero distortion.

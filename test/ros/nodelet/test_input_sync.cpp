@@ -25,6 +25,7 @@ struct Recorder {
   };
   std::vector<Set> sets;
   std::vector<InputSynchroniser::Jump> jumps;
+  std::vector<std::string> out_of_order;
 
   InputSynchroniser::Callbacks callbacks() {
     InputSynchroniser::Callbacks c;
@@ -36,6 +37,9 @@ struct Recorder {
                       info->header.stamp.toSec()});
     };
     c.jumped = [this](const InputSynchroniser::Jump& j) { jumps.push_back(j); };
+    c.out_of_order = [this](const char* input, double back) {
+      out_of_order.push_back(std::string(input) + " " + std::to_string(back));
+    };
     return c;
   }
 };
@@ -83,6 +87,21 @@ TEST_F(InputSync, ApproximateTimePairsTheNearestStamps) {
     EXPECT_NEAR(s.depth, s.colour + 0.003, 1e-9);
     EXPECT_NEAR(s.info, s.colour - 0.002, 1e-9);
   }
+}
+
+// A depth image stamped a millisecond before the one before it (a driver's clock jittering back)
+// is dropped and said, and nothing restarts: the synchroniser goes on pairing the next sets.
+TEST_F(InputSync, AStampAMillisecondBackIsDroppedNotAJump) {
+  Recorder r;
+  InputSynchroniser in(false, 5, r.callbacks());
+  feed(in, 100.0, 100.0, 100.0);
+  in.depthIn(InputSynchroniser::ImageEvent(image(99.999)));
+  EXPECT_TRUE(r.jumps.empty());
+  ASSERT_EQ(r.out_of_order.size(), 1u);
+  EXPECT_EQ(r.out_of_order[0].rfind("depth image 0.001", 0), 0u) << r.out_of_order[0];
+  feed(in, 100.033, 100.033, 100.033);
+  ASSERT_EQ(r.sets.size(), 2u) << "the synchroniser was not replaced";
+  EXPECT_EQ(r.sets[1].colour, 100.033);
 }
 
 TEST_F(InputSync, AJumpBackResetsOnceAndDropsTheLateMessagesOfTheOldEpoch) {
