@@ -127,6 +127,9 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
       inputs_->unsubscribe();
     } else if (!inputs_->subscribed()) {
       NODELET_DEBUG("Subscribing to the inputs");
+      // after a pause the tracked lane is another road's (the vehicle drove on unseen): the
+      // lane tracker and model start again, as after a jump back in time
+      processor_.reset();
       inputs_->subscribe(*it_, getNodeHandle(), getPrivateNodeHandle());
       diagnostics_->accounting().restartSequence();  // gaps while unsubscribed are not losses
     }
