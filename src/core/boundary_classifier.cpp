@@ -50,6 +50,14 @@ constexpr float kMinContrast = BandProfile::kMinContrast;
 constexpr double kSideNear = BandProfile::kSideNear;
 constexpr double kSideFar = BandProfile::kSideFar;
 
+// The row's two sides differ as sunlit and shaded road do (a shadow's edge across the line, a
+// vehicle's dark flank or its shade beside it): the brighter side at least kShadowRatio times
+// the darker one.
+bool sidesAShadowApart(const RowMeasure& m) {
+  const int dark = m.bg[0] < m.bg[1] ? 0 : 1;
+  return m.bg[1 - dark] >= kShadowRatio * std::max(m.bg[dark], 1.0f);
+}
+
 // Column of an image polyline (near to far, rows decreasing) at row v, linear between its points.
 double columnAt(const std::vector<cv::Point2f>& line, int v) {
   for (size_t i = 1; i < line.size(); ++i)
@@ -273,8 +281,7 @@ void BoundaryClassifier::classify(const ClassifierInput& in, std::vector<cv::Poi
       const float blue_dark = 1.f - m.chroma[dark][0] - m.chroma[dark][1];
       const float blue_light = 1.f - m.chroma[1 - dark][0] - m.chroma[1 - dark][1];
       const float dist = std::hypot(dr, dg);
-      const bool shadow = m.bg[1 - dark] >= kShadowRatio * std::max(m.bg[dark], 1.0f) &&
-                          blue_dark - blue_light > 0.5f * dist;
+      const bool shadow = sidesAShadowApart(m) && blue_dark - blue_light > 0.5f * dist;
       chroma_.push_back(shadow ? 0.0f : dist);
     }
     if (m.peak - m.top >= m.contrast) ++ev.ridge_rows;
@@ -477,9 +484,7 @@ void BoundaryClassifier::measurePaint(const ClassifierInput& in,
     // a vehicle's dark flank or its shade beside it) is no gap either: paint in the shade need
     // not stand above the sunlit side, which sets the contrast (a solid line under dappled shade
     // read as dashes); such a row is left out of the measured length
-    const bool shaded_side =
-        m.top >= kShadowRatio * std::max(std::min(m.bg[0], m.bg[1]), 1.0f);
-    if (paint || !shaded_side) total += weight;
+    if (paint || !sidesAShadowApart(m)) total += weight;
     if (paint) covered += weight;
     // the paint's colour: on its bands of paint width, else where it is worn narrower (a worn
     // line's core, counted only where fewer than 3 rows have paint width)
