@@ -20,6 +20,23 @@ float floatAtLeast(double b) {
 // The largest float <= b.
 float floatAtMost(double b) { return -floatAtLeast(-b); }
 
+/// A model's validity test of one disparity, in floats, and its valid window on an image.
+struct DisparityTest {
+  float fT, lo, hi, min_abs;
+  cv::Rect window;  ///< clipped to the image; empty: no valid pixel
+  DisparityTest(const DisparityModel& model, const cv::Size& size)
+      : fT(static_cast<float>(model.focal * model.baseline)),
+        lo(floatAtLeast(model.min_disparity)),
+        hi(model.max_disparity > model.min_disparity ? floatAtMost(model.max_disparity) : kInf),
+        min_abs(floatAtLeast(model.delta_d)) {
+    const cv::Rect image(0, 0, size.width, size.height);
+    window = model.valid_window.empty() ? image : (model.valid_window & image);
+  }
+  /// Within the disparity range and not zero (a NaN disparity fails every comparison).
+  bool inRange(float v) const { return (v >= lo) & (v <= hi) & (std::fabs(v) >= min_abs); }
+  bool rowIn(int y) const { return y >= window.y && y < window.y + window.height; }
+};
+
 }  // namespace
 
 const char* DisparityModel::problem() const {
@@ -41,22 +58,16 @@ const char* disparityToDepth(const cv::Mat& disparity, const DisparityModel& mod
   if (disparity.type() != CV_32FC1) return "disparity image is not CV_32FC1";
   if (const char* problem = model.problem()) return problem;
 
-  const float fT = static_cast<float>(model.focal * model.baseline);
-  const float lo = floatAtLeast(model.min_disparity);
-  const float hi = model.max_disparity > model.min_disparity ? floatAtMost(model.max_disparity)
-                                                             : kInf;
-  const float min_abs = floatAtLeast(model.delta_d);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-
-  const cv::Rect image(0, 0, disparity.cols, disparity.rows);
-  const cv::Rect window = model.valid_window.empty() ? image : (model.valid_window & image);
+  const DisparityTest test(model, disparity.size());
+  const cv::Rect& window = test.window;
   const int x0 = window.x, x1 = window.x + window.width;  // empty window: no valid column
+  const float nan = std::numeric_limits<float>::quiet_NaN();
 
   depth.create(disparity.size(), CV_32FC1);
   for (int y = 0; y < disparity.rows; ++y) {
     const float* d = disparity.ptr<float>(y);
     float* z = depth.ptr<float>(y);
-    if (y < window.y || y >= window.y + window.height || window.empty()) {
+    if (!test.rowIn(y) || window.empty()) {
       std::fill(z, z + disparity.cols, nan);
       continue;
     }
@@ -64,14 +75,29 @@ const char* disparityToDepth(const cv::Mat& disparity, const DisparityModel& mod
     // Branch-free so that the compiler vectorises it; a NaN disparity fails every comparison.
     for (int x = x0; x < x1; ++x) {
       const float v = d[x];
-      const float depth_m = fT / v;  // +-inf for v = 0: rejected below
-      const bool ok = (v >= lo) & (v <= hi) & (std::fabs(v) >= min_abs) & (depth_m > 0.f) &
-                      (depth_m < kInf);
+      const float depth_m = test.fT / v;  // +-inf for v = 0: rejected below
+      const bool ok = test.inRange(v) & (depth_m > 0.f) & (depth_m < kInf);
       z[x] = ok ? depth_m : nan;
     }
     std::fill(z + x1, z + disparity.cols, nan);
   }
   return nullptr;
+}
+
+DisparityCounts countDisparities(const cv::Mat& disparity, const DisparityModel& model) {
+  DisparityCounts n;
+  if (disparity.empty() || disparity.type() != CV_32FC1 || model.problem() != nullptr) return n;
+  const DisparityTest test(model, disparity.size());
+  for (int y = test.window.y; y < test.window.y + test.window.height; ++y) {
+    const float* d = disparity.ptr<float>(y);
+    for (int x = test.window.x; x < test.window.x + test.window.width; ++x) {
+      if (!test.inRange(d[x])) continue;
+      const float depth_m = test.fT / d[x];
+      n.valid += depth_m > 0.f && depth_m < kInf;
+      n.wrong_sign += depth_m < 0.f && depth_m > -kInf;
+    }
+  }
+  return n;
 }
 
 }  // namespace rgbd_lane_detector

@@ -7,6 +7,7 @@
 //             registered to the left rectified image (the disparity image's header).
 // Parameters  ~queue_size (int, 5)          subscriber queue
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <mutex>
 
@@ -30,6 +31,10 @@ class DisparityToDepthNodelet : public nodelet::Nodelet {
  private:
   void connectCb();
   void disparityCallback(const stereo_msgs::DisparityImageConstPtr& msg);
+  /// Whether @p depth has a finite pixel (usually found in its middle row at once).
+  static bool anyDepth(const cv::Mat& depth);
+  /// A depth image without one: a throttled warning saying why (T's sign, or the range).
+  void warnNoDepth(const cv::Mat& disparity, const DisparityModel& model);
 
   std::shared_ptr<image_transport::ImageTransport> it_;
   std::mutex connect_mutex_;  // guards sub_ against connectCb running while onInit advertises
@@ -81,7 +86,34 @@ void DisparityToDepthNodelet::disparityCallback(const stereo_msgs::DisparityImag
     NODELET_ERROR_THROTTLE(5.0, "Dropping disparity image: %s", problem);
     return;
   }
+  if (!anyDepth(depth)) warnNoDepth(disparity, model);
   pub_depth_.publish(depth_msg);
+}
+
+// Rows from the middle of the image outward: a pixel with a depth ends the search there at once.
+bool DisparityToDepthNodelet::anyDepth(const cv::Mat& depth) {
+  for (int i = 0; i < depth.rows; ++i) {
+    const int y = depth.rows / 2 + (i % 2 ? -(i + 1) / 2 : i / 2);
+    const float* z = depth.ptr<float>(y);
+    if (std::any_of(z, z + depth.cols, [](float v) { return !std::isnan(v); })) return true;
+  }
+  return false;
+}
+
+void DisparityToDepthNodelet::warnNoDepth(const cv::Mat& disparity, const DisparityModel& model) {
+  const DisparityCounts counts = countDisparities(disparity, model);
+  if (counts.wrong_sign > 0)
+    NODELET_WARN_THROTTLE(5.0,
+                          "No pixel of the disparity image gives a positive depth: f T / d < 0 on "
+                          "%d pixels within its valid range (f %.1f, T %.4f m). The sign of T "
+                          "does not match the disparities' (d = x_l - x_r > 0 needs T > 0)",
+                          counts.wrong_sign, model.focal, model.baseline);
+  else
+    NODELET_WARN_THROTTLE(5.0,
+                          "No pixel of the disparity image is valid (min_disparity %.1f, "
+                          "max_disparity %.1f, delta_d %.3f, its valid_window): the depth is NaN "
+                          "everywhere",
+                          model.min_disparity, model.max_disparity, model.delta_d);
 }
 
 }  // namespace rgbd_lane_detector

@@ -91,9 +91,15 @@ FrameOutcome FrameProcessor::load(const sensor_msgs::Image& colour, const sensor
   return FrameOutcome::kInvalidFrame;
 }
 
-FrameOutcome FrameProcessor::detect(const Frame& frame, const Eigen::Isometry3d* motion,
-                                    bool full_geometric, const char*& problem) {
+FrameOutcome FrameProcessor::detect(const Frame& frame, int64_t stamp_ns,
+                                    const Eigen::Isometry3d* motion, bool full_geometric,
+                                    const char*& problem) {
   problem = nullptr;
+  restart_gap_s_ = 0.0;
+  if (detected_ && max_gap_ns_ > 0 && stamp_ns - last_detected_ns_ > max_gap_ns_) {
+    restart_gap_s_ = static_cast<double>(stamp_ns - last_detected_ns_) * 1e-9;
+    reset();
+  }
   if (motion != nullptr) detector_.predictMotion(*motion);
   // G everywhere only for the response/geometric image; R needs it where M >= tau_G only
   detector_.setFullGeometricMap(full_geometric);
@@ -104,7 +110,11 @@ FrameOutcome FrameProcessor::detect(const Frame& frame, const Eigen::Isometry3d*
     exception_text_ = e.what();
     return FrameOutcome::kDetectorException;
   }
-  if (status == Status::kOk) return FrameOutcome::kProcessed;
+  if (status == Status::kOk) {
+    detected_ = true;
+    last_detected_ns_ = stamp_ns;
+    return FrameOutcome::kProcessed;
+  }
   problem = statusMessage(status);
   return FrameOutcome::kInvalidFrame;
 }

@@ -68,20 +68,37 @@ class FrameProcessor {
                     const sensor_msgs::CameraInfo& info, Frame& frame, const char*& problem);
 
   /**
-   * @brief Run the detector on a loaded frame.
+   * @brief Run the detector on a loaded frame. A frame stamped more than setMaxFrameGap() after
+   * the last detected one first starts the detector's state again (restartGap() says so).
+   * @param[in] stamp_ns the frame's stamp (ns).
    * @param[in] motion the vehicle's motion since the last frame (null: none).
    * @param[in] full_geometric the whole G map (for response/geometric), see LaneDetector.
    * @param[out] problem static text for kInvalidFrame; exceptionText() for kDetectorException.
    * @return kProcessed, kInvalidFrame or kDetectorException.
    */
-  FrameOutcome detect(const Frame& frame, const Eigen::Isometry3d* motion, bool full_geometric,
-                      const char*& problem);
+  FrameOutcome detect(const Frame& frame, int64_t stamp_ns, const Eigen::Isometry3d* motion,
+                      bool full_geometric, const char*& problem);
+
+  /**
+   * @brief The longest time between two detected frames over which the tracks are kept (s;
+   * 0: any). Over a longer gap no frame was seen (a paused driver, lost frames, a missing
+   * transform) while the vehicle drove on: the lane tracker and the lane model, counting frames,
+   * would gate the new road's lines with an old lane.
+   */
+  void setMaxFrameGap(double seconds) { max_gap_ns_ = static_cast<int64_t>(seconds * 1e9); }
+
+  /// The gap (s) after which the last detect() started the state again; 0 when it did not.
+  double restartGap() const { return restart_gap_s_; }
 
   /// True once for the first detect() after a prepare() (the nodelet logs its time).
   bool firstFrameAfterPrepare();
 
-  /// Time went back: the detector's state (tracks, templates, previous plane) starts again.
-  void reset() { detector_.reset(); }
+  /// Time went back, or the inputs were paused: the detector's state (tracks, templates,
+  /// previous plane) starts again.
+  void reset() {
+    detector_.reset();
+    detected_ = false;
+  }
 
   const Params& params() const { return frame_params_; }
   const Result& result() const { return result_; }
@@ -100,6 +117,10 @@ class FrameProcessor {
   Intrinsics prepared_K_;
   bool first_frame_pending_ = false;
   std::string exception_text_;
+  int64_t max_gap_ns_ = 0;        ///< setMaxFrameGap() (0: none)
+  bool detected_ = false;         ///< a frame was detected since the last reset
+  int64_t last_detected_ns_ = 0;  ///< its stamp
+  double restart_gap_s_ = 0.0;
 };
 
 }  // namespace rgbd_lane_detector

@@ -38,9 +38,10 @@ std::string InputSynchroniser::Jump::text(bool tf) const {
               : std::string());
 }
 
-InputSynchroniser::InputSynchroniser(bool approximate, int queue_size, Callbacks callbacks)
+InputSynchroniser::InputSynchroniser(bool approximate, int queue_size, Callbacks callbacks,
+                                     double max_interval_s)
     : approximate_(approximate), queue_size_(std::max(1, queue_size)),
-      callbacks_(std::move(callbacks)) {
+      max_interval_s_(std::max(0.0, max_interval_s)), callbacks_(std::move(callbacks)) {
   // subscriber -> bookkeeping -> pass-through -> synchroniser: the pass-throughs let a jump
   // replace the synchroniser from inside a subscriber's callback
   colour_.registerCallback(
@@ -104,6 +105,9 @@ void InputSynchroniser::makeSynchroniser() {
     approximate_sync_.reset();
     approximate_sync_.reset(new message_filters::Synchronizer<ApproximatePolicy>(
         ApproximatePolicy(queue_size_), pass_colour_, pass_depth_, pass_info_));
+    // a depth image from another moment than its colour image is registered to the wrong road
+    if (max_interval_s_ > 0.0)
+      approximate_sync_->setMaxIntervalDuration(ros::Duration(max_interval_s_));
     approximate_sync_->registerCallback(boost::bind<void>(frame, _1, _2, _3));
   } else {
     exact_sync_.reset();

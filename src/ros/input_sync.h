@@ -66,7 +66,9 @@ class InputSynchroniser {
     std::function<void(const char* input, double seconds_back)> out_of_order;
   };
 
-  InputSynchroniser(bool approximate, int queue_size, Callbacks callbacks);
+  /// @param max_interval_s ApproximateTime's largest spread of a set's stamps (s; 0: no limit).
+  InputSynchroniser(bool approximate, int queue_size, Callbacks callbacks,
+                    double max_interval_s = 0.0);
   ~InputSynchroniser();
 
   /// Subscribe the three inputs (colour and depth with the transports of @p pnh's hints).
@@ -93,6 +95,7 @@ class InputSynchroniser {
 
   const bool approximate_;
   const int queue_size_;
+  const double max_interval_s_;
   Callbacks callbacks_;
   // declared before the synchronisers, which hold references to them
   image_transport::SubscriberFilter colour_, depth_;

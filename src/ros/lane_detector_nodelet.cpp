@@ -74,6 +74,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
       processor_.setParams(p);
     }));
     processor_.applyParams(nullptr);  // the initial parameters, before any frame
+    processor_.setMaxFrameGap(params_.max_frame_gap);
 
     diagnostics_.reset(new NodeDiagnostics(nh, pnh, getName(), params_, [this] {
       std::lock_guard<std::mutex> lock(connect_mutex_);
@@ -107,7 +108,8 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
                             "(out of order; a step back of %.1f s or more restarts tracking)",
                             input, seconds_back, StampJumpDetector::kMinJumpNs * 1e-9);
     };
-    inputs_.reset(new InputSynchroniser(params_.approximate_sync, params_.queue_size, in));
+    inputs_.reset(new InputSynchroniser(params_.approximate_sync, params_.queue_size, in,
+                                        params_.max_sync_interval));
 
     // Advertise under the connect mutex so that connectCb, which may run as soon as the first
     // publisher exists, never sees the others half-assigned (as image_proc does).
@@ -195,8 +197,14 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
       NODELET_WARN_THROTTLE(kThrottle, "%s", vehicle.motion_warning.c_str());
     vehicle.applyTo(frame, h.model);
 
-    outcome = processor_.detect(frame, vehicle.has_motion ? &vehicle.motion : nullptr,
-                                wanted.geometric, detail);
+    outcome = processor_.detect(frame, static_cast<int64_t>(h.image.stamp.toNSec()),
+                                vehicle.has_motion ? &vehicle.motion : nullptr, wanted.geometric,
+                                detail);
+    if (processor_.restartGap() > 0.0)
+      NODELET_WARN_THROTTLE(kThrottle,
+                            "No frame was detected for %.1f s (more than ~max_frame_gap, %.1f s): "
+                            "the lane tracker and the lane model start again",
+                            processor_.restartGap(), params_.max_frame_gap);
     if (outcome == FrameOutcome::kDetectorException) {
       NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: detector failed: %s",
                              processor_.exceptionText().c_str());

@@ -18,6 +18,8 @@ NodeParams NodeParams::sanitized() const {
   NodeParams p = *this;
   p.queue_size = std::max(1, p.queue_size);
   p.tf_timeout = std::max(0.0, p.tf_timeout);
+  p.max_sync_interval = std::max(0.0, p.max_sync_interval);
+  p.max_frame_gap = std::max(0.0, p.max_frame_gap);
   p.diagnostic_period = std::max(0.05, p.diagnostic_period);
   return p;
 }

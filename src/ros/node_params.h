@@ -20,7 +20,8 @@ struct NodeParams {
 #undef RLD_NODE_PARAM
 
   /// Every parameter from the private namespace (its default when unset), then repaired:
-  /// queue_size >= 1, tf_timeout >= 0, diagnostic_period >= 0.05.
+  /// queue_size >= 1; tf_timeout, max_sync_interval and max_frame_gap >= 0
+  /// (0: no limit); diagnostic_period >= 0.05.
   static NodeParams read(const ros::NodeHandle& pnh);
   /// The repairs of read() on their own.
   NodeParams sanitized() const;

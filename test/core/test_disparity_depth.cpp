@@ -112,6 +112,37 @@ TEST(DisparityDepth, NegativeDisparityConvention) {
   EXPECT_TRUE(std::isnan(z.at<float>(0, 4)));  // wrong sign: behind the camera
 }
 
+// A rig whose baseline's sign does not match its disparities' (stereo_image_proc's d = x_l - x_r
+// with T < 0) gives no depth anywhere: counted, so that the nodelet can say why; the count agrees
+// with the conversion's depths.
+TEST(DisparityDepth, CountsValidPixelsAndThoseOfTheWrongSign) {
+  cv::Mat z;
+  DisparityCounts n;
+  const cv::Mat d = row({42.f, 84.f, 0.f, kNaN, -1.f, 3.f});
+  const auto count = [&](const DisparityModel& m) {
+    n = countDisparities(d, m);
+    return disparityToDepth(d, m, z);
+  };
+  ASSERT_EQ(count(model(700.0, 0.12)), nullptr);
+  EXPECT_EQ(cv::countNonZero(z == z), n.valid);
+  EXPECT_EQ(n.valid, 3);  // 42, 84, 3
+  EXPECT_EQ(n.wrong_sign, 1);  // -1: behind the camera
+  ASSERT_EQ(count(model(700.0, -0.12)), nullptr);
+  EXPECT_EQ(cv::countNonZero(z == z), n.valid);
+  EXPECT_EQ(n.valid, 1);  // -1
+  EXPECT_EQ(n.wrong_sign, 3);
+  DisparityModel m = model(700.0, -0.12);
+  m.min_disparity = 1.0;  // stereo_image_proc's range, T of the wrong sign: nothing valid
+  m.max_disparity = 128.0;
+  ASSERT_EQ(count(m), nullptr);
+  EXPECT_EQ(n.valid, 0);
+  EXPECT_EQ(n.wrong_sign, 3);
+  m.valid_window = cv::Rect(4, 0, 2, 1);  // the window's pixels alone: -1 out of range, 3
+  ASSERT_EQ(count(m), nullptr);
+  EXPECT_EQ(n.valid, 0);
+  EXPECT_EQ(n.wrong_sign, 1);
+}
+
 TEST(DisparityDepth, ValidWindow) {
   cv::Mat d(4, 6, CV_32FC1, cv::Scalar(21.f));  // Z = 4 m everywhere
   DisparityModel m = model();

@@ -43,6 +43,8 @@ struct Inputs {
   }
 };
 
+constexpr int64_t kFrameNs = 66666667;  // 15 Hz
+
 bool sameTrace(const MarkerTrace& a, const MarkerTrace& b) {
   if (a.found != b.found || a.points.size() != b.points.size()) return false;
   return a.points.empty() ||
@@ -69,7 +71,8 @@ TEST(FrameProcessor, DetectsWhatTheCoreDetectsOnTheSameImages) {
         << problem;
     EXPECT_EQ(frame.colour.data, in.colour.data.data()) << "colour copied, not read in place";
     EXPECT_EQ(frame.depth.data, in.depth.data.data()) << "depth copied, not read in place";
-    ASSERT_EQ(processor.detect(frame, nullptr, false, problem), FrameOutcome::kProcessed);
+    ASSERT_EQ(processor.detect(frame, i * kFrameNs, nullptr, false, problem),
+              FrameOutcome::kProcessed);
     ASSERT_EQ(direct.detect(core, expected), Status::kOk);
     const Result& got = processor.result();
     ASSERT_TRUE(got.plane.valid);
@@ -127,6 +130,50 @@ TEST(FrameProcessor, ReconfiguredParametersApplyAtTheNextFrameWithTheUpAxis) {
   EXPECT_DOUBLE_EQ(processor.params().up_z, 0.6);
   processor.applyParams(nullptr);  // no change since: the up axis stays
   EXPECT_DOUBLE_EQ(processor.params().up_z, 0.6);
+}
+
+// Frames dropped for seconds (a paused driver, a missing transform) while the vehicle drove on:
+// the lane model, which counts frames, is not carried over such a gap. A frame without lines
+// right after a lane was seen keeps the model (one frame unseen); the same frame after a gap
+// longer than max_frame_gap finds none.
+TEST(FrameProcessor, TheLaneStartsAgainAfterAGapInTheStamps) {
+  const Inputs lane;
+  Inputs bare;
+  bare.scene.left_painted = bare.scene.right_painted = false;
+  bare.scene.render(bare.bgr, bare.depth_mm);
+  bare.colour = imageOf(bare.bgr, enc::BGR8);
+  bare.depth = imageOf(bare.depth_mm, enc::TYPE_16UC1);
+  for (const double max_gap : {1.0, 0.0}) {
+    FrameProcessor processor;
+    processor.applyParams(nullptr);
+    ASSERT_TRUE(processor.params().lane_model) << "the default mode tracks a lane model";
+    processor.setMaxFrameGap(max_gap);
+    FrameProcessor::Preparation prepared;
+    ASSERT_TRUE(processor.prepare(lane.info, "rgb/image_rect_color", prepared));
+    const auto detect = [&](const Inputs& in, int64_t stamp_ns) {
+      Frame frame;
+      const char* problem = nullptr;
+      EXPECT_EQ(processor.load(in.colour, in.depth, in.info, frame, problem), FrameOutcome::kProcessed);
+      EXPECT_EQ(processor.detect(frame, stamp_ns, nullptr, false, problem), FrameOutcome::kProcessed);
+      return processor.result().lane_model.valid;
+    };
+    int64_t t = 1000 * kFrameNs;
+    for (int i = 0; i < 5; ++i, t += kFrameNs) ASSERT_TRUE(detect(lane, t)) << "frame " << i;
+    EXPECT_EQ(processor.restartGap(), 0.0);
+    EXPECT_TRUE(detect(bare, t)) << "one frame without lines keeps the lane";
+    EXPECT_EQ(processor.restartGap(), 0.0);
+    ASSERT_TRUE(detect(lane, t += kFrameNs));
+    t += 2000000000;  // 2 s without a detected frame
+    if (max_gap > 0.0) {
+      EXPECT_FALSE(detect(bare, t)) << "the old lane was kept across 2 s";
+      EXPECT_NEAR(processor.restartGap(), 2.0, 1e-6);
+      EXPECT_TRUE(detect(lane, t += kFrameNs)) << "and a lane is found again";
+      EXPECT_EQ(processor.restartGap(), 0.0) << "said once";
+    } else {
+      EXPECT_TRUE(detect(bare, t)) << "max_frame_gap 0: tracks are kept over any gap";
+      EXPECT_EQ(processor.restartGap(), 0.0);
+    }
+  }
 }
 
 TEST(FrameProcessor, BadMessagesAndInvalidFramesAreNamed) {

@@ -2,6 +2,7 @@
 // roscore: sets are synchronised (ExactTime, ApproximateTime), every colour image and
 // camera_info is seen first, a jump back in time replaces the synchroniser once and drops the
 // late messages from before it; a missing transport plugin is named with its package.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,38 @@ TEST_F(InputSync, ApproximateTimePairsTheNearestStamps) {
   for (const auto& s : r.sets) {
     EXPECT_NEAR(s.depth, s.colour + 0.003, 1e-9);
     EXPECT_NEAR(s.info, s.colour - 0.002, 1e-9);
+  }
+}
+
+// A sparse depth stream (a 2 Hz LiDAR projected into the camera) beside colour images that were
+// lost for a while: ApproximateTime pairs each depth image with the nearest colour image left,
+// however far that is; max_sync_interval refuses a colour image of another moment.
+TEST_F(InputSync, ApproximateTimeMakesNoSetWiderThanTheMaximumInterval) {
+  for (const double max_interval : {0.0, 0.1}) {
+    Recorder r;
+    InputSynchroniser in(true, 10, r.callbacks(), max_interval);
+    auto info = [&](double t) {
+      auto c = boost::make_shared<CameraInfo>();
+      c->header.stamp = ros::Time(t);
+      in.infoIn(InputSynchroniser::CameraInfoEvent(boost::shared_ptr<const CameraInfo>(c)));
+    };
+    for (int i = 0; i <= 40; ++i) {
+      const double t = 10.0 + i * 0.1;  // colour and camera_info at 10 Hz
+      if (i % 5 == 0) in.depthIn(InputSynchroniser::ImageEvent(image(t)));
+      if (i >= 13 && i <= 17) continue;  // colour lost around the depth at 11.5
+      info(t);
+      in.colourIn(InputSynchroniser::ImageEvent(image(t)));
+    }
+    std::vector<double> wide;  // colour stamps of sets whose depth is more than 0.1 s away
+    for (const auto& s : r.sets)
+      if (std::fabs(s.depth - s.colour) > 0.1 + 1e-9) wide.push_back(s.colour);
+    EXPECT_GE(r.sets.size(), 6u) << "max " << max_interval;
+    if (max_interval > 0.0)
+      EXPECT_TRUE(wide.empty()) << "the colour image at " << wide.front() << " s is in a set "
+                                << "with a depth image more than 0.1 s away";
+    else
+      EXPECT_FALSE(wide.empty()) << "without a limit the depth at 11.5 s pairs with a colour "
+                                    "image 0.3 s away (the test's premise)";
   }
 }
 

@@ -47,10 +47,14 @@ TEST(NodeParams, DefaultsAreTheTablesAndRepairsAreSaid) {
   NodeParams bad;
   bad.queue_size = 0;
   bad.tf_timeout = -1.0;
+  bad.max_sync_interval = -0.1;
+  bad.max_frame_gap = -2.0;
   bad.diagnostic_period = 0.0;
   const NodeParams fixed = bad.sanitized();
   EXPECT_EQ(fixed.queue_size, 1);
   EXPECT_EQ(fixed.tf_timeout, 0.0);
+  EXPECT_EQ(fixed.max_sync_interval, 0.0);
+  EXPECT_EQ(fixed.max_frame_gap, 0.0);
   EXPECT_EQ(fixed.diagnostic_period, 0.05);
 }
 
