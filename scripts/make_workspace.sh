@@ -18,3 +18,7 @@ for entry in "$ROOT"/*; do
   case "$name" in build|.git) continue ;; esac
   ln -sfn "$entry" "$PKG/$name"
 done
+# build/demo alone (make demo's bag): demo.launch's default bag is
+# $(find rgbd_lane_detector)/build/demo/summer.bag, in the repository and in this mirror alike
+mkdir -p "$PKG/build"
+ln -sfn "$ROOT/build/demo" "$PKG/build/demo"

@@ -232,6 +232,7 @@ class LaneDetector {
   ClassifierInput paint_input_;
   LaneFitter fitter_;
   LaneModelFilter lane_model_;
+  bool model_in_vehicle_frame_ = false;  ///< lane_model_'s frame: the vehicle's, else the road's
   std::array<BoundaryObservation, 6> observations_;
   std::vector<int> row_histogram_;
 };

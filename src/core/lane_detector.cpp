@@ -384,7 +384,17 @@ void LaneDetector::measurePaint(const Frame& frame, Result& result) {
 void LaneDetector::updateLaneModel(const Frame& frame, Result& result) {
   const StageTimer timer(timings_.model);
   result.lane_model.valid = false;
-  if (!params_.lane_model) return;
+  // switched off: its state is stale when it is switched on again (ages advance in updates)
+  if (!params_.lane_model) {
+    lane_model_.reset();
+    return;
+  }
+  // its state lies in the frame it was updated in: the vehicle frame (tf), or the road frame
+  // under the camera when tf did not give the vehicle's (late, or not yet there)
+  if (frame.has_vehicle_frame != model_in_vehicle_frame_) {
+    lane_model_.reset();
+    model_in_vehicle_frame_ = frame.has_vehicle_frame;
+  }
   const MarkerTrace* traces[6] = {&result.left,           &result.right,
                                   &result.outer[kNextLeft], &result.outer[kNextRight],
                                   &result.outer[kRoadEdgeLeft], &result.outer[kRoadEdgeRight]};

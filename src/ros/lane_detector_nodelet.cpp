@@ -114,6 +114,7 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     // Advertise under the connect mutex so that connectCb, which may run as soon as the first
     // publisher exists, never sees the others half-assigned (as image_proc does).
     std::lock_guard<std::mutex> lock(connect_mutex_);
+    outputs_.setMarkerLifetime(params_.max_frame_gap);  // as long as the lane is kept unseen
     outputs_.advertise(nh, *it_, [this] { connectCb(); });
     NODELET_INFO("Lane detector ready (%s sync, output frame: %s, up axis: %s)",
                  params_.approximate_sync ? "approximate" : "exact",
@@ -203,7 +204,8 @@ class LaneDetectorNodelet : public nodelet::Nodelet {
     if (processor_.restartGap() > 0.0)
       NODELET_WARN_THROTTLE(kThrottle,
                             "No frame was detected for %.1f s (more than ~max_frame_gap, %.1f s): "
-                            "the lane tracker and the lane model start again",
+                            "the lane tracker and the lane model start again (a stream slower "
+                            "than 1 / max_frame_gap needs a larger one; 0 keeps them over any gap)",
                             processor_.restartGap(), params_.max_frame_gap);
     if (outcome == FrameOutcome::kDetectorException) {
       NODELET_ERROR_THROTTLE(kThrottle, "Dropping frame: detector failed: %s",

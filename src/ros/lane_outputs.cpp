@@ -29,8 +29,10 @@ OutputPlan planOutputs(const Wanted& wanted, bool lane_model_on, bool vehicle_fr
   plan.grid_inset = wanted.debug && lane_model_on;
   plan.grid = wanted.grid || plan.grid_inset;
   // the road-aligned fallback frame, so that rviz and users can place the model
-  plan.road_frame = (wanted.model || wanted.centre || wanted.markers || wanted.grid) &&
-                    !vehicle_frame_found && plane_valid;
+  const bool in_road_frame =
+      (wanted.model || wanted.centre || wanted.markers || wanted.grid) && !vehicle_frame_found;
+  plan.road_frame = in_road_frame && plane_valid;
+  plan.road_frame_held = in_road_frame && !plane_valid;
   return plan;
 }
 
@@ -84,6 +86,14 @@ void LaneOutputs::publish(const Wanted& wanted, const Frame& frame, const Result
                           const Eigen::Isometry3d& T, bool vehicle_frame_found) {
   const OutputPlan plan =
       planOutputs(wanted, params.lane_model, vehicle_frame_found, result.plane.valid);
+  // The road frame first: a subscriber of the messages in it may look it up at their stamp.
+  if (plan.road_frame || (plan.road_frame_held && !road_frame_.child_frame_id.empty())) {
+    if (plan.road_frame)
+      road_frame_ = roadFrameTransform(result.plane, headers.image, headers.model.frame_id);
+    road_frame_.header.stamp = headers.image.stamp;  // held: the model stays in the last one
+    if (!road_frame_broadcaster_) road_frame_broadcaster_.reset(new tf2_ros::TransformBroadcaster);
+    road_frame_broadcaster_->sendTransform(road_frame_);
+  }
   // Messages are allocated per publish (ROS 1 shares them with intra-process subscribers).
   if (wanted.plane) {
     auto msg = boost::make_shared<LanePlane>();
@@ -117,12 +127,8 @@ void LaneOutputs::publish(const Wanted& wanted, const Frame& frame, const Result
     auto msg = boost::make_shared<visualization_msgs::MarkerArray>();
     conv::fillLaneMarkers(result, headers.out, T, *msg);
     conv::appendLaneModelMarkers(result.lane_model, headers.model, *msg);
+    for (visualization_msgs::Marker& m : msg->markers) m.lifetime = marker_lifetime_;
     markers_.publish(msg);
-  }
-  if (plan.road_frame) {
-    if (!road_frame_broadcaster_) road_frame_broadcaster_.reset(new tf2_ros::TransformBroadcaster);
-    road_frame_broadcaster_->sendTransform(
-        roadFrameTransform(result.plane, headers.image, headers.model.frame_id));
   }
   // Images stay in the camera's optical frame (they are pixels of that camera), at the
   // processing resolution for the response maps.

@@ -42,6 +42,9 @@ struct OutputPlan {
   bool grid = false;        ///< the lane grid (lane_grid, or the debug image's inset)
   bool grid_inset = false;  ///< the inset in debug_image (lane model on)
   bool road_frame = false;  ///< broadcast the road-aligned frame (no vehicle frame from tf)
+  /// Broadcast the last road-aligned frame again at this stamp: no vehicle frame and no plane
+  /// this frame, and the lane model (predicted in that frame) is published in it.
+  bool road_frame_held = false;
 };
 OutputPlan planOutputs(const Wanted& wanted, bool lane_model_on, bool vehicle_frame_found,
                        bool plane_valid);
@@ -64,6 +67,9 @@ class LaneOutputs {
   void advertise(ros::NodeHandle& nh, image_transport::ImageTransport& it,
                  const std::function<void()>& connect);
   Wanted wanted() const;
+  /// How long rviz shows a frame's markers unless a later frame replaces them (s; 0: until
+  /// then): without frames (a stopped camera, frames dropped) the lines do not stay on.
+  void setMarkerLifetime(double seconds) { marker_lifetime_ = ros::Duration(seconds); }
   /// Publish what @p wanted asks for; @p T takes optical points into headers.out.frame_id.
   void publish(const Wanted& wanted, const Frame& frame, const Result& result,
                const Params& params, const Headers& headers, const Eigen::Isometry3d& T,
@@ -74,6 +80,9 @@ class LaneOutputs {
   image_transport::Publisher left_, right_, geometric_, debug_;
   LaneGrid lane_grid_;  ///< built from the lane model for lane_grid and the debug inset
   std::unique_ptr<tf2_ros::TransformBroadcaster> road_frame_broadcaster_;
+  geometry_msgs::TransformStamped road_frame_;  ///< the last one broadcast (empty: none yet)
+  /// Markers' lifetime (0: until replaced), setMarkerLifetime().
+  ros::Duration marker_lifetime_;
 };
 
 }  // namespace rgbd_lane_detector

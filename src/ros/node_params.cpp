@@ -4,6 +4,8 @@
 
 #include <ros/node_handle.h>
 
+#include "rgbd_lane_detector/ros/conversions.h"
+
 namespace rgbd_lane_detector {
 
 NodeParams NodeParams::read(const ros::NodeHandle& pnh) {
@@ -21,6 +23,9 @@ NodeParams NodeParams::sanitized() const {
   p.max_sync_interval = std::max(0.0, p.max_sync_interval);
   p.max_frame_gap = std::max(0.0, p.max_frame_gap);
   p.diagnostic_period = std::max(0.05, p.diagnostic_period);
+  // tf2 names frames without tf1's leading '/' (it refuses "/base_link" in a lookup)
+  for (std::string* frame : {&p.target_frame, &p.up_frame, &p.lane_model_frame, &p.odom_frame})
+    *frame = conversions::tfFrameId(*frame);
   return p;
 }
 

@@ -21,7 +21,7 @@ struct NodeParams {
 
   /// Every parameter from the private namespace (its default when unset), then repaired:
   /// queue_size >= 1; tf_timeout, max_sync_interval and max_frame_gap >= 0
-  /// (0: no limit); diagnostic_period >= 0.05.
+  /// (0: no limit); diagnostic_period >= 0.05; the frames without tf1's leading '/'.
   static NodeParams read(const ros::NodeHandle& pnh);
   /// The repairs of read() on their own.
   NodeParams sanitized() const;

@@ -57,6 +57,15 @@ visualization_msgs::Marker baseMarker(const std_msgs::Header& header, const char
   return m;
 }
 
+// f(x) at x_min, x_min + step, ... and at x_max itself: a line drawn over its whole range (none
+// for an empty range or a step that is not positive).
+template <class F>
+void alongRange(double x_min, double x_max, double step, F f) {
+  if (!(step > 0.0) || !(x_max >= x_min)) return;
+  for (double x = x_min; x < x_max - 1e-6; x += step) f(x);
+  f(x_max);
+}
+
 // First and last valid point of a trace (near and far end); false when it has none.
 bool ends(const MarkerTrace& m, Eigen::Vector3d& near_end, Eigen::Vector3d& far_end) {
   auto first = std::find_if(m.points.begin(), m.points.end(), finite);
@@ -207,11 +216,12 @@ void fillLaneModel(const LaneModelEstimate& model, const std_msgs::Header& heade
   msg.boundaries.clear();
   msg.centre_line.header = header;
   msg.centre_line.poses.clear();
-  msg.lane_changes = model.lane_changes;
   if (!model.valid) {
     msg.width = msg.lateral_offset = msg.heading_error = msg.curvature = msg.curvature_rate = 0.0;
+    msg.lane_changes = 0;
     return;
   }
+  msg.lane_changes = model.lane_changes;
   msg.width = model.width;
   msg.lateral_offset = model.offset;
   msg.heading_error = model.heading_error;
@@ -235,7 +245,7 @@ void fillLaneModel(const LaneModelEstimate& model, const std_msgs::Header& heade
   }
   // the centre line as a path: poses along it, oriented along its tangent
   const auto& c = model.centre;
-  for (double x = model.x_min; x <= model.x_max + 1e-9 && step > 0.0; x += step) {
+  alongRange(model.x_min, model.x_max, step, [&](double x) {
     geometry_msgs::PoseStamped pose;
     pose.header = header;
     pose.pose.position.x = x;
@@ -244,7 +254,7 @@ void fillLaneModel(const LaneModelEstimate& model, const std_msgs::Header& heade
     pose.pose.orientation.z = std::sin(0.5 * yaw);
     pose.pose.orientation.w = std::cos(0.5 * yaw);
     msg.centre_line.poses.push_back(pose);
-  }
+  });
 }
 
 void fillOccupancyGrid(const LaneGrid& grid, const std_msgs::Header& header,
@@ -287,12 +297,12 @@ void appendLaneModelMarkers(const LaneModelEstimate& model, const std_msgs::Head
           line.color = rgba(0.5f, 0.5f, 0.5f, 0.8f);
           break;
       }
-      for (double x = b.x_min; x <= b.x_max + 1e-9; x += step) {
+      alongRange(b.x_min, b.x_max, step, [&](double x) {
         geometry_msgs::Point p;
         p.x = x;
         p.y = b.lateral(x);
         line.points.push_back(p);
-      }
+      });
       if (line.points.size() < 2) {
         line.action = visualization_msgs::Marker::DELETE;
         line.points.clear();

@@ -383,6 +383,57 @@ TEST(LaneDetector, WithoutRoadDepthTheMountIsTheRoad) {
   }
 }
 
+// The lane model's state lies in the frame it was updated in. When tf stops giving the vehicle
+// frame (a late transform) the model goes on in the road frame under the camera, and a state
+// carried over from base_link (here 1.5 m ahead of the camera and 1 m left of it) would be
+// published as the road frame's: it starts again. So does a model switched off and on (its ages
+// advance only in updates: the old lane would come back as current).
+TEST(LaneDetector, TheLaneModelStartsAgainInAnotherFrameAndAfterBeingOff) {
+  RoadScene lines, bare;
+  bare.left_painted = bare.right_painted = false;
+  cv::Mat bgr, depth, bare_bgr, bare_depth;
+  Frame f = makeFrame(lines, bgr, depth);
+  Frame empty = makeFrame(bare, bare_bgr, bare_depth);
+  PlaneEstimate truth;
+  truth.valid = true;
+  truth.normal = lines.planeNormal();
+  truth.distance = lines.planeDistance();
+  Eigen::Isometry3d vehicle_from_camera = RoadFrame::fromPlane(truth).roadFromCamera();
+  vehicle_from_camera.pretranslate(Eigen::Vector3d(1.5, 1.0, 0.0));  // base_link behind, right
+  for (const bool vehicle_first : {true, false}) {
+    LaneDetector detector(Params::improved());
+    Result r;
+    f.has_vehicle_frame = vehicle_first;
+    f.vehicle_from_camera = vehicle_from_camera;
+    for (int i = 0; i < 4; ++i) ASSERT_EQ(detector.detect(f, r), Status::kOk);
+    ASSERT_TRUE(r.lane_model.valid);
+    const double left_c0 = r.lane_model.at(BoundaryPosition::kEgoLeft).c[0];
+    EXPECT_NEAR(left_c0, -lines.leftMarkerX() + (vehicle_first ? 1.0 : 0.0), 0.15)
+        << "+y is left of the frame's origin";
+    empty.has_vehicle_frame = vehicle_first;  // a frame without lines, the same frame: kept
+    empty.vehicle_from_camera = vehicle_from_camera;
+    ASSERT_EQ(detector.detect(empty, r), Status::kOk);
+    EXPECT_TRUE(r.lane_model.valid) << "one frame without lines keeps the lane";
+    ASSERT_EQ(detector.detect(f, r), Status::kOk);
+    empty.has_vehicle_frame = !vehicle_first;  // the same, but in the other frame
+    ASSERT_EQ(detector.detect(empty, r), Status::kOk);
+    EXPECT_FALSE(r.lane_model.valid) << "a lane of the other frame was carried over";
+  }
+  LaneDetector detector(Params::improved());
+  Result r;
+  f.has_vehicle_frame = empty.has_vehicle_frame = false;
+  for (int i = 0; i < 4; ++i) ASSERT_EQ(detector.detect(f, r), Status::kOk);
+  ASSERT_TRUE(r.lane_model.valid);
+  Params off = Params::improved();
+  off.lane_model = false;
+  detector.setParams(off);
+  ASSERT_EQ(detector.detect(f, r), Status::kOk);
+  EXPECT_FALSE(r.lane_model.valid);
+  detector.setParams(Params::improved());
+  ASSERT_EQ(detector.detect(empty, r), Status::kOk);
+  EXPECT_FALSE(r.lane_model.valid) << "the lane from before the model was off came back";
+}
+
 // One side without paint (a kerb-less edge, worn paint): the other side is reported on its own,
 // with its confidence; with report_only_complete nothing is.
 TEST(LaneDetector, OneGoodSideIsReportedOnItsOwn) {

@@ -562,6 +562,59 @@ TEST(Conversions, MarkersAreStableAndDeletedWhenAbsent) {
   }
 }
 
+// The lane model's lines are drawn over their whole range: every metre from x_min and at x_max
+// (a path or strip that stops up to a metre short, or a short boundary not drawn at all, was
+// the model's range cut); an invalid model is all zeros, its lane-change count too.
+TEST(Conversions, LaneModelLinesCoverTheirWholeRange) {
+  LaneModelEstimate model;
+  model.valid = true;
+  model.x_min = 2.0;
+  model.x_max = 10.5;
+  model.centre = {{0.2, 0.01, 0.0, 0.0}};
+  model.lane_changes = -1;
+  LaneBoundaryModel& left = model.boundaries[static_cast<int>(BoundaryPosition::kEgoLeft)];
+  left.valid = true;
+  left.position = BoundaryPosition::kEgoLeft;
+  left.c = {{1.8, 0.0, 0.001, 0.0}};
+  left.x_min = 3.0;
+  left.x_max = 7.25;
+  LaneBoundaryModel& right = model.boundaries[static_cast<int>(BoundaryPosition::kEgoRight)];
+  right.valid = true;
+  right.position = BoundaryPosition::kEgoRight;
+  right.x_min = 4.0;
+  right.x_max = 4.6;  // shorter than a step
+  LaneModel msg;
+  conv::fillLaneModel(model, header(), msg);
+  ASSERT_EQ(msg.centre_line.poses.size(), 10u);  // 2, 3, ..., 10, 10.5
+  EXPECT_DOUBLE_EQ(msg.centre_line.poses.front().pose.position.x, 2.0);
+  EXPECT_DOUBLE_EQ(msg.centre_line.poses.back().pose.position.x, 10.5);
+  EXPECT_DOUBLE_EQ(msg.centre_line.poses.back().pose.position.y, 0.2 + 0.01 * 10.5);
+  EXPECT_EQ(msg.lane_changes, -1);
+  visualization_msgs::MarkerArray markers;
+  conv::appendLaneModelMarkers(model, header(), markers);
+  ASSERT_EQ(markers.markers.size(), static_cast<size_t>(kNumBoundaryPositions));
+  const auto& l = markers.markers[static_cast<int>(BoundaryPosition::kEgoLeft)];
+  ASSERT_EQ(l.action, visualization_msgs::Marker::ADD);
+  ASSERT_EQ(l.points.size(), 6u);  // 3, 4, 5, 6, 7, 7.25
+  EXPECT_DOUBLE_EQ(l.points.back().x, 7.25);
+  EXPECT_DOUBLE_EQ(l.points.back().y, 1.8 + 0.001 * 7.25 * 7.25);
+  const auto& r = markers.markers[static_cast<int>(BoundaryPosition::kEgoRight)];
+  ASSERT_EQ(r.action, visualization_msgs::Marker::ADD) << "a boundary shorter than a step is drawn";
+  ASSERT_EQ(r.points.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.points[1].x, 4.6);
+  for (const auto& m : markers.markers)
+    if (m.id != l.id && m.id != r.id) {
+      EXPECT_EQ(m.action, visualization_msgs::Marker::DELETE);
+    }
+
+  model.valid = false;
+  conv::fillLaneModel(model, header(), msg);
+  EXPECT_FALSE(msg.valid);
+  EXPECT_EQ(msg.lane_changes, 0);
+  EXPECT_TRUE(msg.centre_line.poses.empty());
+  EXPECT_TRUE(msg.boundaries.empty());
+}
+
 TEST(Conversions, ImagesFromMaps) {
   cv::Mat map(4, 6, CV_32FC1);
   for (int i = 0; i < 24; ++i) map.at<float>(i / 6, i % 6) = 0.5f * i;

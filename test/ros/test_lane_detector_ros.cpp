@@ -217,11 +217,15 @@ TEST(LaneDetectorRos, SyntheticRoadGivesEveryOutput) {
   // the plane and both markings in the target frame, then one line per lane-model position
   // (rgbd_lane_detector::kNumBoundaryPositions) in the lane model's frame
   ASSERT_EQ(markers->markers.size(), 3u + rgbd_lane_detector::kNumBoundaryPositions);
+  double max_frame_gap = 1.0;  // the markers live as long as the lane is kept unseen
+  ros::param::get(g->detector + "/max_frame_gap", max_frame_gap);
   for (size_t i = 0; i < 3; ++i) {
     const auto& m = markers->markers[i];
     EXPECT_EQ(m.header.frame_id, frame);
     EXPECT_EQ(m.action, visualization_msgs::Marker::ADD) << m.ns << " " << m.id;
   }
+  for (const auto& m : markers->markers)
+    EXPECT_EQ(m.lifetime, ros::Duration(max_frame_gap)) << m.ns << " " << m.id;
   int model_lines = 0;
   for (size_t i = 3; i < markers->markers.size(); ++i) {
     const auto& m = markers->markers[i];

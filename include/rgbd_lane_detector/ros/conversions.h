@@ -206,7 +206,8 @@ void fillLaneMarkers(const Result& result, const std_msgs::Header& header,
 
 /**
  * @brief lane_model: the lane model (in the vehicle frame) as a message; the centre line is
- * sampled every @p step metres over its range.
+ * sampled every @p step metres over its range, and at its far end. An invalid model has every
+ * other field 0 (lane_changes too).
  * @param[in] model the detector's lane model.
  * @param[in] header stamp of the input image, frame_id of the vehicle frame.
  * @param[out] msg filled; boundaries only for the positions known this frame.
@@ -220,7 +221,8 @@ constexpr const char* kModelNs = "lane_model";
 /**
  * @brief Append the lane model's boundaries to lane_visualization: LINE_STRIPs in the vehicle
  * frame (ns lane_model, id = LaneBoundary position), coloured by kind (solid white / yellow,
- * dashed light grey / light yellow, road edge red, unknown grey); unknown positions as DELETE.
+ * dashed light grey / light yellow, road edge red, unknown grey), sampled every @p step metres
+ * from x_min and at x_max; unknown positions as DELETE.
  */
 void appendLaneModelMarkers(const LaneModelEstimate& model, const std_msgs::Header& header,
                             visualization_msgs::MarkerArray& msg, double step = 1.0);

@@ -61,10 +61,15 @@ TEST(LaneOutputs, TheRoadFrameIsBroadcastOnlyWithoutAVehicleFrameAndWithAPlane) 
     EXPECT_TRUE(planOutputs(w, true, false, true).road_frame);
     EXPECT_FALSE(planOutputs(w, true, true, true).road_frame) << "tf has the vehicle frame";
     EXPECT_FALSE(planOutputs(w, true, false, false).road_frame) << "no plane, no road frame";
+    EXPECT_TRUE(planOutputs(w, true, false, false).road_frame_held)
+        << "no plane: the last road frame again, where the lane model was predicted";
+    EXPECT_FALSE(planOutputs(w, true, false, true).road_frame_held);
+    EXPECT_FALSE(planOutputs(w, true, true, false).road_frame_held) << "tf has the vehicle frame";
   }
   Wanted w;
   w.plane = w.markings = w.points = w.left = w.right = w.geometric = w.debug = true;
   EXPECT_FALSE(planOutputs(w, true, false, true).road_frame) << "nothing in the model's frame";
+  EXPECT_FALSE(planOutputs(w, true, false, false).road_frame_held);
 }
 
 TEST(LaneOutputs, RoadFrameIsUnderTheCameraOnTheRoad) {

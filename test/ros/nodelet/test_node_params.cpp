@@ -49,12 +49,19 @@ TEST(NodeParams, DefaultsAreTheTablesAndRepairsAreSaid) {
   bad.tf_timeout = -1.0;
   bad.max_sync_interval = -0.1;
   bad.max_frame_gap = -2.0;
+  bad.target_frame = "/base_link";
+  bad.odom_frame = "//odom";
+  bad.up_frame = "/";
   bad.diagnostic_period = 0.0;
   const NodeParams fixed = bad.sanitized();
   EXPECT_EQ(fixed.queue_size, 1);
   EXPECT_EQ(fixed.tf_timeout, 0.0);
   EXPECT_EQ(fixed.max_sync_interval, 0.0);
   EXPECT_EQ(fixed.max_frame_gap, 0.0);
+  EXPECT_EQ(fixed.target_frame, "base_link") << "tf2 refuses tf1's leading '/'";
+  EXPECT_EQ(fixed.odom_frame, "odom");
+  EXPECT_EQ(fixed.up_frame, "");
+  EXPECT_EQ(fixed.lane_model_frame, "base_link");
   EXPECT_EQ(fixed.diagnostic_period, 0.05);
 }
 
