@@ -1,5 +1,6 @@
 // Dataset readers and the rosbag writer: real KITTI / TUM frames of ../shared/realdata (skipped
 // when absent), SYNTHIA / TUM / bag round trips through generated data, and bad input.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,7 +10,10 @@
 
 #include <camera_calibration_parsers/parse.h>
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "rgbd_lane_detector_tools/dataset/bag_writer.h"
@@ -588,6 +592,100 @@ TEST(Readers, KittiDisparityConversion) {
   EXPECT_TRUE(std::isnan(depth.at<float>(0)));
   EXPECT_NEAR(depth.at<float>(1), 35.0, 1e-4);
   EXPECT_NEAR(depth.at<float>(2), 700.0, 1e-2);
+}
+
+// A recorded RealSense-like bag written message by message: depth at 60 Hz beside colour at 30,
+// an unregistered depth of another size, a compressed colour stream.
+struct RawBag {
+  rosbag::Bag bag;
+  explicit RawBag(const std::string& path) { bag.open(path, rosbag::bagmode::Write); }
+  static sensor_msgs::Image image(double t, int w, int h, const std::string& encoding,
+                                  uint8_t value) {
+    sensor_msgs::Image m;
+    m.header.stamp = ros::Time(t);
+    m.header.frame_id = "camera_color_optical_frame";
+    m.width = static_cast<uint32_t>(w);
+    m.height = static_cast<uint32_t>(h);
+    m.encoding = encoding;
+    m.step = static_cast<uint32_t>(w * (encoding == "16UC1" ? 2 : 3));
+    m.data.assign(static_cast<size_t>(m.step) * h, value);
+    return m;
+  }
+  void colour(double t, int w = 8, int h = 6) {
+    bag.write("/camera/color/image_raw", ros::Time(t), image(t, w, h, "rgb8", 100));
+  }
+  /// @p received: when the recorder got it (after its stamp: the alignment took that long)
+  void depth(double t, uint8_t value, int w = 8, int h = 6, double received = 0.0) {
+    bag.write("/camera/aligned_depth_to_color/image_raw", ros::Time(std::max(t, received)),
+              image(t, w, h, "16UC1", value));
+  }
+  void info(double t) {
+    sensor_msgs::CameraInfo c;
+    c.header.stamp = ros::Time(t);
+    c.width = 8;
+    c.height = 6;
+    c.K = {{5.0, 0.0, 4.0, 0.0, 5.0, 3.0, 0.0, 0.0, 1.0}};
+    c.P = {{5.0, 0.0, 4.0, 0.0, 0.0, 5.0, 3.0, 0.0, 0.0, 0.0, 1.0, 0.0}};
+    bag.write("/camera/color/camera_info", ros::Time(t), c);
+  }
+};
+
+DatasetOptions realsenseTopics(const std::string& path) {
+  DatasetOptions o;
+  o.path = path;
+  o.colour_topic = "color/image_raw";
+  o.depth_topic = "aligned_depth_to_color/image_raw";
+  o.info_topic = "color/camera_info";
+  return o;
+}
+
+TEST(BagIo, PairsTheNearestDepthAndSaysWhatItCannotRead) {
+  const fs::path dir = tempDir("rawbags");
+  std::string error;
+  DatasetFrame f;
+  {  // depth at 60 Hz recorded before and after each colour image: the one at its stamp pairs
+    RawBag b((dir / "sync60.bag").string());
+    for (int i = 0; i < 4; ++i) {
+      const double t = 10.0 + i / 30.0;
+      b.info(t);
+      b.depth(t - 1.0 / 60.0, 1);  // 16.7 ms before, within the 20 ms tolerance
+      b.colour(t);
+      b.depth(t, 2, 8, 6, t + 0.005);  // stamped with the colour image, recorded after it
+    }
+  }
+  auto reader = openDataset(realsenseTopics((dir / "sync60.bag").string()), error);
+  ASSERT_TRUE(reader) << error;
+  int frames = 0;
+  while (reader->next(f)) {
+    EXPECT_EQ(f.depth.at<uint16_t>(0, 0), 0x0202) << "frame " << frames << ": not the nearest depth";
+    ++frames;
+  }
+  EXPECT_EQ(frames, 4) << reader->error();
+  EXPECT_TRUE(reader->error().empty()) << reader->error();
+  {  // the unaligned depth stream (another size): said, with the aligned topic
+    RawBag b((dir / "unaligned.bag").string());
+    b.info(10.0);
+    b.depth(10.0, 1, 4, 3);
+    b.colour(10.0);
+    b.depth(10.1, 1, 4, 3);
+  }
+  reader = openDataset(realsenseTopics((dir / "unaligned.bag").string()), error);
+  ASSERT_TRUE(reader) << error;
+  EXPECT_FALSE(reader->next(f));
+  EXPECT_NE(reader->error().find("4x3"), std::string::npos) << reader->error();
+  EXPECT_NE(reader->error().find("registered"), std::string::npos) << reader->error();
+  {  // a compressed colour stream: refused at once, naming its type
+    RawBag b((dir / "compressed.bag").string());
+    b.info(10.0);
+    b.depth(10.0, 1);
+    sensor_msgs::CompressedImage c;
+    c.header.stamp = ros::Time(10.0);
+    c.format = "jpeg";
+    b.bag.write("/camera/color/image_raw", ros::Time(10.0), c);
+  }
+  reader = openDataset(realsenseTopics((dir / "compressed.bag").string()), error);
+  EXPECT_FALSE(reader);
+  EXPECT_NE(error.find("sensor_msgs/CompressedImage"), std::string::npos) << error;
 }
 
 TEST(BagIo, DepthConversions) {

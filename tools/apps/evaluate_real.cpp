@@ -178,18 +178,18 @@ int main(int argc, char** argv) {
       "ego boundaries scored the same way, and their frame-to-frame change.\n"
       "example: evaluate_real --labels test/data/realdata_labels.yaml --realdata ../shared/realdata"
       " --markdown build/eval/real.md --images docs/images");
-  cl.add("labels", "label file (repeatable; at least one)", &labels_paths);
+  cl.add("labels", "label file (at least one)", &labels_paths);
   cl.add("realdata", "folder holding the labelled datasets (required)", &realdata);
-  cl.add("mode", "detector mode to score (repeatable; default improved)", &modes_list);
-  cl.add("param", "key=value override of a detector parameter, every mode (repeatable)",
+  cl.add("mode", "detector mode to score: improved or paper (default improved)", &modes_list);
+  cl.add("param", "key=value override of a detector parameter, every mode",
          &overrides);
-  cl.add("depth", "depth source for stereo datasets: dataset, sgbm (repeatable; default both)",
+  cl.add("depth", "depth source for stereo datasets: dataset, sgbm (default both)",
          &depths_list);
   cl.add("variant",
          "frame variant of frame sets: as_is, mirrored (left-right), no_near_depth (no depth in "
          "the bottom 30% of the rows), half_resolution (half the width and height), underexposed "
          "(colour at 60%), overexposed (colour at 140%, saturating), night (45% near to 8% at the "
-         "horizon, noise) (repeatable; default all)",
+         "horizon, noise) (default all)",
          &variants_list);
   cl.add("markdown", "write the tables here", &markdown);
   cl.add("csv", "write one line per frame, depth, variant and mode here", &csv);
@@ -208,6 +208,18 @@ int main(int argc, char** argv) {
   }
   if (modes_list.empty()) modes_list = {"improved"};
   if (depths_list.empty()) depths_list = {"dataset", "sgbm"};
+  for (const std::string& depth : depths_list)
+    if (depth != "dataset" && depth != "sgbm") {
+      std::cerr << "evaluate_real: unknown --depth " << depth << " (dataset or sgbm)\n";
+      return 2;
+    }
+  for (const std::string& mode : modes_list) {
+    Params p;
+    if (!paramsForMode(mode, p)) {
+      std::cerr << "evaluate_real: unknown --mode " << mode << " (improved or paper)\n";
+      return 2;
+    }
+  }
   std::vector<tools::RealVariant> variants;
   for (const std::string& name : variants_list) {
     tools::RealVariant v;
@@ -392,6 +404,12 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (rows.empty()) {
+    std::cerr << "evaluate_real: no labelled frame was scored (does " << realdata
+              << " hold the labelled datasets?)\n";
+    return 1;
+  }
+
   // Summary: per set (frame sets together, each sequence on its own), depth, variant and mode
   struct Typing {  // solid/dashed and colour of the sides right where scored
     int style_scored = 0, style_right = 0, colour_scored = 0, colour_right = 0;
@@ -509,7 +527,10 @@ int main(int argc, char** argv) {
        << " |\n";
   }
   std::cout << md.str();
-  if (!markdown.empty()) std::ofstream(markdown) << md.str();
+  if (!markdown.empty() && !(std::ofstream(markdown) << md.str())) {
+    std::cerr << "evaluate_real: cannot write " << markdown << "\n";
+    return 1;
+  }
   if (!csv.empty()) {
     std::ofstream out(csv);
     // (a side's style / colour: 1 the labelled one, 0 another, empty not scored)
@@ -535,6 +556,10 @@ int main(int argc, char** argv) {
         out << "," << scored(s->style_right) << "," << scored(s->colour_right);
       out << "," << fmt(r.c0[0], "%.3f") << ","
           << fmt(r.c0[1], "%.3f") << "," << fmt(r.ms) << "\n";
+    }
+    if (!out.flush()) {
+      std::cerr << "evaluate_real: cannot write " << csv << "\n";
+      return 1;
     }
   }
   return sides_wrong == 0 ? 0 : 3;

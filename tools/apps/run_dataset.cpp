@@ -214,6 +214,10 @@ int main(int argc, char** argv) {
     std::cerr << "run_dataset: no frames read\n";
     return 1;
   }
+  if (processed == 0) {  // every frame refused: the same reason for all, as a rule
+    std::cerr << "run_dataset: no frame was processed: " << statusMessage(result.status) << "\n";
+    return 1;
+  }
   std::printf(
       "frames %d, processed %d, lane reported %d (%.1f%%), plane %d (%.1f%%), %.2f ms/frame "
       "(depth: %s)\n",

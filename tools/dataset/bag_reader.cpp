@@ -1,8 +1,11 @@
 // rosbag input: colour + registered depth + camera_info, paired by header stamp.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <string>
+#include <utility>
 
 #include <cv_bridge/cv_bridge.h>
 #include <rosbag/bag.h>
@@ -41,21 +44,42 @@ class BagReader : public DatasetReader {
       bag_.open(o.path, rosbag::bagmode::Read);
       rosbag::View all(bag_);
       std::vector<std::string> found;
+      std::string colour_type, depth_type, info_type;
       for (const rosbag::ConnectionInfo* c : all.getConnections()) {
-        if (topicMatches(c->topic, o.colour_topic))
+        if (topicMatches(c->topic, o.colour_topic)) {
           colour_topic_ = c->topic;
-        else if (topicMatches(c->topic, o.depth_topic))
+          colour_type = c->datatype;
+        } else if (topicMatches(c->topic, o.depth_topic)) {
           depth_topic_ = c->topic;
-        else if (topicMatches(c->topic, o.info_topic))
+          depth_type = c->datatype;
+        } else if (topicMatches(c->topic, o.info_topic)) {
           info_topic_ = c->topic;
+          info_type = c->datatype;
+        }
         found.push_back(c->topic);
       }
       std::string list;
       for (const auto& t : found) list += " " + t;
       if (colour_topic_.empty() || depth_topic_.empty()) {
         error = "bag " + o.path + " has no topic matching '" +
-                (colour_topic_.empty() ? o.colour_topic : o.depth_topic) + "' (topics:" + list +
-                ")";
+                (colour_topic_.empty() ? o.colour_topic : o.depth_topic) +
+                "' (--colour-topic, --depth-topic; topics:" + list + ")";
+        return false;
+      }
+      // a compressed stream (sensor_msgs/CompressedImage) is not read: said, not skipped
+      const std::pair<const std::string*, const std::string*> images[] = {
+          {&colour_topic_, &colour_type}, {&depth_topic_, &depth_type}};
+      for (const auto& t : images) {
+        if (*t.second == "sensor_msgs/Image") continue;
+        error = "bag " + o.path + ": topic " + *t.first + " holds " + *t.second +
+                ", not sensor_msgs/Image (a compressed stream: republish it raw while playing the "
+                "bag, rosrun image_transport republish compressed in:=<topic> raw out:=<topic>, "
+                "and record that)";
+        return false;
+      }
+      if (!info_topic_.empty() && info_type != "sensor_msgs/CameraInfo") {
+        error = "bag " + o.path + ": topic " + info_topic_ + " holds " + info_type +
+                ", not sensor_msgs/CameraInfo (--info-topic, or --camera-info with a YAML)";
         return false;
       }
       if (!o.camera_info.empty()) {
@@ -63,7 +87,7 @@ class BagReader : public DatasetReader {
         have_override_ = true;
       } else if (info_topic_.empty()) {
         error = "bag " + o.path + " has no topic matching '" + o.info_topic +
-                "'; pass a camera_info YAML (topics:" + list + ")";
+                "' (--info-topic); or pass a camera_info YAML, --camera-info (topics:" + list + ")";
         return false;
       }
       rosbag::View colour(bag_, rosbag::TopicQuery(colour_topic_));
@@ -98,7 +122,16 @@ class BagReader : public DatasetReader {
           ++emitted_;
           return true;
         }
-        if (it_ == view_->end()) return false;
+        if (it_ == view_->end()) {
+          if (!at_end_) {  // the last colour images pair with what depth is left
+            at_end_ = true;
+            continue;
+          }
+          if (!have_info_ && !have_override_ && error_.empty())
+            error_ = "no camera_info on " + info_topic_ +
+                     " with a usable P or K (all zero?): pass --camera-info with a YAML";
+          return false;
+        }
         const rosbag::MessageInstance m = *it_;  // a copy: incrementing frees the iterator's
         ++it_;
         if (m.getTopic() == info_topic_) {
@@ -110,6 +143,18 @@ class BagReader : public DatasetReader {
             if (k.valid()) {
               K_ = k;
               have_info_ = true;
+            }
+            const bool distorted =
+                std::any_of(info->D.begin(), info->D.end(), [](double v) { return v != 0.0; });
+            if (distorted && !warned_distortion_) {
+              warned_distortion_ = true;
+              std::fprintf(stderr,
+                           "bag reader: warning: camera_info on %s has distortion coefficients "
+                           "(model '%s'): the images of %s are read as rectified, with %s. Record "
+                           "rectified images (image_proc's image_rect_color) for lines in place "
+                           "toward the image edges.\n",
+                           info_topic_.c_str(), info->distortion_model.c_str(),
+                           colour_topic_.c_str(), info->P[0] > 0 ? "P" : "K");
             }
           }
         } else if (m.getTopic() == colour_topic_) {
@@ -129,7 +174,8 @@ class BagReader : public DatasetReader {
 
  private:
   // Pair the oldest colour image with the depth image closest in time (within tolerance),
-  // once intrinsics are known.
+  // once intrinsics are known and no later depth can be closer: one stamped at or after the
+  // colour image is in (stamps grow through the bag), or the bag has ended.
   bool pairReady(sensor_msgs::ImageConstPtr& c, sensor_msgs::ImageConstPtr& d) {
     if (!have_info_ && !have_override_) return false;
     while (!colours_.empty() && !depths_.empty()) {
@@ -143,6 +189,8 @@ class BagReader : public DatasetReader {
           best = i;
         }
       }
+      const double last_depth = depths_.back()->header.stamp.toSec();
+      if (best_dt <= options_.sync_tolerance && !at_end_ && last_depth < tc) return false;
       if (best_dt <= options_.sync_tolerance) {
         c = colours_.front();
         d = depths_[best];
@@ -151,7 +199,7 @@ class BagReader : public DatasetReader {
         return true;
       }
       // a later depth may still match; decide only when depth is past this colour frame
-      if (depths_.back()->header.stamp.toSec() > tc + options_.sync_tolerance) {
+      if (at_end_ || last_depth > tc + options_.sync_tolerance) {
         colours_.pop_front();
       } else {
         return false;
@@ -175,6 +223,14 @@ class BagReader : public DatasetReader {
       } else {
         f.colour = cv_bridge::toCvCopy(c, enc::BGR8)->image;
         f.format = PixelFormat::kBgr8;
+      }
+      if (d->width != c->width || d->height != c->height) {
+        error_ = "the depth image on " + depth_topic_ + " is " + std::to_string(d->width) + "x" +
+                 std::to_string(d->height) + ", the colour image on " + colour_topic_ + " " +
+                 std::to_string(c->width) + "x" + std::to_string(c->height) +
+                 ": the depth must be registered to the colour camera, pixel for pixel "
+                 "(RealSense: aligned_depth_to_color/image_raw; --depth-topic)";
+        return false;
       }
       if (d->encoding == enc::TYPE_16UC1 || d->encoding == enc::MONO16) {
         f.depth = cv_bridge::toCvCopy(d)->image;
@@ -206,6 +262,8 @@ class BagReader : public DatasetReader {
   std::deque<sensor_msgs::ImageConstPtr> colours_, depths_;
   Intrinsics K_, K_override_;
   bool have_info_ = false, have_override_ = false;
+  bool at_end_ = false;             ///< the bag was read to its end
+  bool warned_distortion_ = false;
   int size_ = -1;
   int pairs_ = 0;
   int emitted_ = 0;

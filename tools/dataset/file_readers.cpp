@@ -4,6 +4,7 @@
 // its own calibration) and RADIATE-style stereo + LiDAR sequences.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -324,6 +325,16 @@ std::unique_ptr<DatasetReader> openTumFrames(const DatasetOptions& o, std::strin
   }
   Intrinsics K{520.9, 521.0, 325.1, 249.7};  // TUM office frames of ../shared/realdata
   if (!applyCameraInfo(o, K, error)) return nullptr;
+  if (o.camera_info.empty() || o.depth_scale <= 0)  // another camera's frames would be misread
+    std::fprintf(stderr,
+                 "frame folder %s: %s%s%s\n", o.path.c_str(),
+                 o.camera_info.empty() ? "no --camera-info: the TUM office camera (640x480, fx "
+                                         "520.9, fy 521.0, cx 325.1, cy 249.7) is assumed"
+                                       : "",
+                 o.camera_info.empty() && o.depth_scale <= 0 ? "; " : "",
+                 o.depth_scale <= 0 ? "no --depth-scale: depth PNG value / 5000 m (TUM) is "
+                                      "assumed (0.001 for millimetres)"
+                                    : "");
   return std::make_unique<FileSequenceReader>("tum_frames", entries, o, K,
                                               o.depth_scale > 0 ? o.depth_scale : 1.0 / 5000.0,
                                               0.0, std::string());
