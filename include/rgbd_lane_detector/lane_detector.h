@@ -54,7 +54,8 @@ class LaneDetector {
  public:
   explicit LaneDetector(const Params& params = Params());
 
-  /// Replace the parameters (sanitised); applies from the next detect().
+  /// Replace the parameters (sanitised); applies from the next detect(). New template geometry
+  /// starts the adapted template angles again; the lane, the lane model and the plane stay.
   void setParams(const Params& params);
   const Params& params() const { return params_; }
 
@@ -120,6 +121,8 @@ class LaneDetector {
   const LineTemplate& rightTemplate() const { return right_template_; }
 
  private:
+  /// The templates start again from the parameters' angles (made at the next frame).
+  void resetTemplates();
   /// The stages of a validated frame, in order; each times itself (StageTimer into timings_).
   void runStages(const Frame& frame, Result& result);
   /// The processing image's geometry (prepareGeometry()), the templates of this frame, the

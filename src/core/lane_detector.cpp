@@ -35,24 +35,30 @@ void LaneDetector::setParams(const Params& params) {
   LaneModelSettings ms;
   ms.gate = p.model_gate;
   ms.lost_frames = p.model_lost_frames;
-  ms.width_min = p.lane_width_min;
-  ms.width_max = p.lane_width_max > 0.0 ? p.lane_width_max : ms.width_max;
+  if (p.lane_width_max > 0.0) {  // else no lane width check: the model's own plausible widths
+    ms.width_min = p.lane_width_min;
+    ms.width_max = p.lane_width_max;
+  }
   ms.x_max = p.max_depth;
   ms.dashed_coverage = p.dashed_coverage;
   ms.yellowness = p.yellow_threshold;
   lane_model_.setSettings(ms);
-  if (new_templates) reset();
+  if (new_templates) resetTemplates();
+}
+
+void LaneDetector::resetTemplates() {
+  next_left_angle_ = defaultLeftAngle(params_.template_angle_deg);
+  next_right_angle_ = defaultRightAngle(params_.template_angle_deg);
+  templates_dirty_ = true;
 }
 
 void LaneDetector::reset() {
-  next_left_angle_ = defaultLeftAngle(params_.template_angle_deg);
-  next_right_angle_ = defaultRightAngle(params_.template_angle_deg);
+  resetTemplates();
   fitter_.reset();
   lane_model_.reset();
   road_.valid = false;
   plane_holds_ = 0;
   mount_evidence_ = 0;
-  templates_dirty_ = true;
 }
 
 Status LaneDetector::prepare(const cv::Size& size, const Intrinsics& intrinsics,

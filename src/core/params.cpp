@@ -85,6 +85,7 @@ Params sanitize(const Params& in) {
   if (p.acquisition_angle_deg > 0.0 && p.acquisition_angle_deg < 5.0) p.acquisition_angle_deg = 5.0;
   p.paint_width_max = std::max(p.paint_width_max, p.paint_width_min);
   p.boundary_offset_max = std::max(p.boundary_offset_max, p.boundary_offset_min);
+  if (p.lane_width_max > 0.0) p.lane_width_max = std::max(p.lane_width_max, p.lane_width_min);
   return p;
 }
 

@@ -388,7 +388,7 @@ TEST(LaneDetector, WithoutRoadDepthTheMountIsTheRoad) {
 // carried over from base_link (here 1.5 m ahead of the camera and 1 m left of it) would be
 // published as the road frame's: it starts again. So does a model switched off and on (its ages
 // advance only in updates: the old lane would come back as current).
-TEST(LaneDetector, TheLaneModelStartsAgainInAnotherFrameAndAfterBeingOff) {
+TEST(LaneDetector, TheLaneModelStartsAgainInAnotherFrameAndAfterBeingOffNotForNewTemplates) {
   RoadScene lines, bare;
   bare.left_painted = bare.right_painted = false;
   cv::Mat bgr, depth, bare_bgr, bare_depth;
@@ -424,6 +424,14 @@ TEST(LaneDetector, TheLaneModelStartsAgainInAnotherFrameAndAfterBeingOff) {
   f.has_vehicle_frame = empty.has_vehicle_frame = false;
   for (int i = 0; i < 4; ++i) ASSERT_EQ(detector.detect(f, r), Status::kOk);
   ASSERT_TRUE(r.lane_model.valid);
+  // new templates (reconfigured live) start only the templates' adapted angles again
+  Params wider = Params::improved();
+  wider.template_size += 2;
+  detector.setParams(wider);
+  ASSERT_EQ(detector.detect(empty, r), Status::kOk);
+  EXPECT_TRUE(r.lane_model.valid) << "a new template size threw away the lane";
+  EXPECT_TRUE(r.left.found && r.right.found) << "the tracked sides were thrown away";
+  ASSERT_EQ(detector.detect(f, r), Status::kOk);
   Params off = Params::improved();
   off.lane_model = false;
   detector.setParams(off);

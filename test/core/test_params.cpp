@@ -125,6 +125,12 @@ TEST(Params, SanitiseRepairsOutOfRangeValues) {
   p = Params();
   p.normal_window = 9;
   EXPECT_EQ(sanitize(p).normal_window, 7);
+  p = Params();  // a lane narrower than its minimum: the maximum is the minimum
+  p.lane_width_min = 6.0;
+  p.lane_width_max = 5.0;
+  EXPECT_DOUBLE_EQ(sanitize(p).lane_width_max, 6.0);
+  p.lane_width_max = 0.0;  // no lane width check
+  EXPECT_DOUBLE_EQ(sanitize(p).lane_width_max, 0.0);
   // valid input comes back unchanged
   const Params d = sanitize(Params());
   EXPECT_EQ(d.normal_window, 5);
