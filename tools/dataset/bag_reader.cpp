@@ -15,6 +15,7 @@
 #include <sensor_msgs/image_encodings.h>
 
 #include "readers_internal.h"
+#include "rgbd_lane_detector/ros/conversions.h"
 
 namespace rgbd_lane_detector {
 namespace tools {
@@ -137,16 +138,12 @@ class BagReader : public DatasetReader {
         if (m.getTopic() == info_topic_) {
           const auto info = m.instantiate<sensor_msgs::CameraInfo>();
           if (info) {
-            const Intrinsics k = info->P[0] > 0
-                                     ? Intrinsics{info->P[0], info->P[5], info->P[2], info->P[6]}
-                                     : Intrinsics{info->K[0], info->K[4], info->K[2], info->K[5]};
+            const Intrinsics k = conversions::intrinsicsFromCameraInfo(*info);  // P, else K
             if (k.valid()) {
               K_ = k;
               have_info_ = true;
             }
-            const bool distorted =
-                std::any_of(info->D.begin(), info->D.end(), [](double v) { return v != 0.0; });
-            if (distorted && !warned_distortion_) {
+            if (conversions::hasDistortion(*info) && !warned_distortion_) {
               warned_distortion_ = true;
               std::fprintf(stderr,
                            "bag reader: warning: camera_info on %s has distortion coefficients "
@@ -154,7 +151,7 @@ class BagReader : public DatasetReader {
                            "rectified images (image_proc's image_rect_color) for lines in place "
                            "toward the image edges.\n",
                            info_topic_.c_str(), info->distortion_model.c_str(),
-                           colour_topic_.c_str(), info->P[0] > 0 ? "P" : "K");
+                           colour_topic_.c_str(), info->P[0] != 0.0 ? "P" : "K");
             }
           }
         } else if (m.getTopic() == colour_topic_) {
